@@ -1,0 +1,105 @@
+#pragma once
+// The loaded, validated assembly: what the rest of vaw works on. SI units, world frame z up.
+// Parts are referred to across layers by PartId (their index), never by pointer.
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vaw/categories.hpp"
+#include "vaw/error.hpp"
+#include "vaw/importer.hpp"
+#include "vaw/mass_properties.hpp"
+#include "vaw/mesh.hpp"
+#include "vaw/units.hpp"
+
+namespace vaw {
+
+using PartId = std::size_t;
+
+struct Material {
+  std::string name;
+  std::optional<double> density;  // kg/m^3
+  double staticFriction = 0.3;    // f_s
+  double kineticFriction = 0.2;   // f_d <= f_s
+  double rotationalFriction = 0.0; // f_r, N m s (viscous torque = f_r * omega)
+  Eigen::Vector3f color{0.7f, 0.7f, 0.72f};
+};
+
+enum class MassSource { Mesh, PropertyFile };
+
+struct Part {
+  PartId id = 0;
+  std::string name;
+  std::shared_ptr<const TriMesh> mesh;   // part frame, metres
+  std::string shapeSource;               // mesh path or primitive description
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // part frame -> world
+  std::optional<Eigen::Isometry3d> finalPose;              // assembled pose, world
+  std::string material;
+  MassProperties mass;                   // the properties vaw uses
+  MassSource massSource = MassSource::Mesh;
+  std::optional<MassProperties> meshMass;      // computed from mesh and density, when possible
+  std::optional<MassProperties> fileMass;      // from the property file, when given
+  std::optional<MassComparison> disagreement;  // when both exist
+  Principal principal;
+  double extent = 0.0;                   // largest principal dimension, m
+  CategoryResult category;
+  std::filesystem::path propertyFile;
+};
+
+struct EnvironmentObject {
+  std::string name;
+  std::string kind;  // "table", "floor", "fixture"
+  std::shared_ptr<const TriMesh> mesh;
+  std::string shapeSource;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  Eigen::Vector3f color{0.55f, 0.45f, 0.35f};
+};
+
+struct Plane { Eigen::Vector3d point; Eigen::Vector3d normal; };  // normal unit length
+struct Axis { Eigen::Vector3d point; Eigen::Vector3d direction; }; // direction unit length
+
+// An assembly constraint between a part and the base, geometry in each one's own frame.
+struct Constraint {
+  enum class Type { Mate, Align, Insert };
+  Type type = Type::Mate;
+  std::string name;
+  PartId part = 0;
+  Plane partPlane{}, basePlane{};  // Mate (normals opposed) / Align (normals equal)
+  Axis partAxis{}, baseAxis{};     // Insert
+  double offset = 0.0;             // m, signed distance between the planes (Mate/Align)
+};
+std::string_view name(Constraint::Type t);
+
+// The scene tree as the file wrote it: groups, parts, environment objects.
+struct TreeNode {
+  // MeshNode children of a Part are the nodes of its mesh file (names only; geometry is merged).
+  enum class Kind { Assembly, Group, Part, Environment, MeshNode };
+  Kind kind = Kind::Group;
+  std::string name;
+  std::size_t index = 0;  // PartId for Part, environment index for Environment
+  std::vector<TreeNode> children;
+};
+
+struct Assembly {
+  std::string name;
+  std::filesystem::path source;
+  LengthUnit units = LengthUnit::Metre;
+  std::map<std::string, Material> materials;
+  std::vector<Part> parts;
+  std::optional<PartId> base;
+  std::vector<EnvironmentObject> environment;
+  std::vector<Constraint> constraints;
+  TreeNode tree;
+  Diagnostics warnings;
+  CategorySettings categorySettings;
+
+  [[nodiscard]] std::optional<PartId> findPart(std::string_view partName) const;
+  [[nodiscard]] std::size_t totalTriangles() const;
+  [[nodiscard]] Eigen::AlignedBox3d worldBounds() const;
+};
+
+}  // namespace vaw

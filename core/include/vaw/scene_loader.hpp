@@ -1,0 +1,41 @@
+#pragma once
+// Reads a scene file (docs/scene-format.md) or a bare mesh file into a validated Assembly.
+// All or nothing: on any error an InputError is thrown and nothing is half-loaded.
+#include <filesystem>
+
+#include "vaw/assembly.hpp"
+#include "vaw/importer.hpp"
+
+namespace vaw {
+
+struct LoadOptions {
+  CategorySettings categories = CategorySettings::defaults();
+  // Units and density for a bare mesh file, which carries neither.
+  LengthUnit bareMeshUnits = LengthUnit::Millimetre;
+  double bareMeshDensity = 7850.0;  // kg/m^3, steel
+  // Relative disagreement between property file and mesh above which a warning is raised.
+  double massDisagreementWarning = 0.01;
+};
+
+inline constexpr int kSceneFormatVersion = 1;
+
+Assembly loadScene(const std::filesystem::path& file, const ImporterRegistry& importers,
+                   const LoadOptions& options = {}, const ProgressFn& progress = {});
+
+// A mesh file opened on its own becomes an assembly of one part per top-level node.
+Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry& importers,
+                      const LoadOptions& options = {}, const ProgressFn& progress = {});
+
+// Picks loadScene for .json/.vaw files and loadMeshFile for everything an importer reads.
+Assembly loadAny(const std::filesystem::path& file, const ImporterRegistry& importers,
+                 const LoadOptions& options = {}, const ProgressFn& progress = {});
+
+}  // namespace vaw
+
+namespace vaw {
+// Thrown when the progress callback asked to stop; nothing was loaded.
+class LoadCancelled : public std::exception {
+ public:
+  [[nodiscard]] const char* what() const noexcept override { return "loading cancelled"; }
+};
+}  // namespace vaw

@@ -1,0 +1,20 @@
+#include "vaw/error.hpp"
+
+namespace vaw {
+
+std::string Diagnostic::message() const {
+  std::string m = file.empty() ? std::string("<input>") : file;
+  if (!field.empty()) m += ": " + field;
+  m += ": expected " + expected;
+  if (!found.empty()) m += ", found " + found;
+  return m;
+}
+
+InputError::InputError(Diagnostic d) : std::runtime_error(d.message()), d_(std::move(d)) {}
+
+void fail(std::string file, std::string field, std::string expected, std::string found) {
+  throw InputError(Diagnostic{Diagnostic::Severity::Error, std::move(file), std::move(field),
+                              std::move(expected), std::move(found)});
+}
+
+}  // namespace vaw

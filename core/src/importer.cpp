@@ -1,0 +1,120 @@
+#include "vaw/importer.hpp"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdlib>
+#include <sstream>
+
+#include "vaw/paths.hpp"
+
+namespace vaw {
+
+std::size_t ImportedNode::subtreeTriangles() const {
+  std::size_t n = mesh.triangleCount();
+  for (const auto& c : children) n += c.subtreeTriangles();
+  return n;
+}
+
+TriMesh ImportedNode::merged() const {
+  TriMesh out = mesh;
+  for (const auto& c : children) out.append(c.merged());
+  return out;
+}
+
+struct ImporterRegistry::Library {
+  void* handle = nullptr;
+  ~Library() {
+    if (handle) dlclose(handle);
+  }
+};
+
+ImporterRegistry::ImporterRegistry() = default;
+
+// Importers are destroyed before the libraries holding their code are unloaded.
+ImporterRegistry::~ImporterRegistry() {
+  importers_.clear();
+  libraries_.clear();
+}
+
+void ImporterRegistry::add(std::unique_ptr<MeshImporter> importer) { importers_.push_back(std::move(importer)); }
+
+std::vector<std::string> ImporterRegistry::loadPlugins(const std::filesystem::path& dir) {
+  std::vector<std::string> problems;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec)) return problems;
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const auto fname = e.path().filename().string();
+    if (fname.rfind("libvaw_import_", 0) == 0 && e.path().extension() == ".so") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) {
+    auto lib = std::make_unique<Library>();
+    lib->handle = dlopen(f.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!lib->handle) {
+      problems.push_back(f.string() + ": cannot load: " + dlerror());
+      continue;
+    }
+    auto abi = reinterpret_cast<VawPluginAbiFn>(dlsym(lib->handle, "vaw_plugin_abi_version"));
+    auto create = reinterpret_cast<VawCreateImporterFn>(dlsym(lib->handle, "vaw_create_mesh_importer"));
+    if (!abi || !create) {
+      problems.push_back(f.string() + ": not a vaw importer plugin (missing vaw_plugin_abi_version or vaw_create_mesh_importer)");
+      continue;
+    }
+    if (abi() != kImporterAbiVersion) {
+      problems.push_back(f.string() + ": built for importer ABI " + std::to_string(abi()) + ", this vaw needs " +
+                         std::to_string(kImporterAbiVersion));
+      continue;
+    }
+    std::unique_ptr<MeshImporter> imp(create());
+    if (!imp) {
+      problems.push_back(f.string() + ": plugin returned no importer");
+      continue;
+    }
+    libraries_.push_back(std::move(lib));
+    importers_.push_back(std::move(imp));
+  }
+  return problems;
+}
+
+const MeshImporter* ImporterRegistry::find(const std::filesystem::path& file) const {
+  std::string ext = file.extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const auto& imp : importers_) {
+    const auto exts = imp->extensions();
+    if (std::find(exts.begin(), exts.end(), ext) != exts.end() && imp->canRead(file)) return imp.get();
+  }
+  return nullptr;
+}
+
+std::vector<std::string> ImporterRegistry::extensions() const {
+  std::vector<std::string> out;
+  for (const auto& imp : importers_)
+    for (auto& e : imp->extensions()) out.push_back(std::move(e));
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+std::vector<std::string> ImporterRegistry::importerNames() const {
+  std::vector<std::string> out;
+  for (const auto& imp : importers_) out.push_back(imp->name());
+  return out;
+}
+
+std::vector<std::filesystem::path> ImporterRegistry::defaultPluginDirs() {
+  std::vector<std::filesystem::path> dirs;
+  if (const char* env = std::getenv("VAW_PLUGIN_PATH"); env && *env) {
+    std::stringstream ss(env);
+    std::string item;
+    while (std::getline(ss, item, ':'))
+      if (!item.empty()) dirs.emplace_back(item);
+  }
+  dirs.push_back((executableDir() / ".." / "lib" / "vaw" / "plugins").lexically_normal());
+  return dirs;
+}
+
+}  // namespace vaw

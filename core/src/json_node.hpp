@@ -1,0 +1,57 @@
+#pragma once
+// A JSON value together with the file and the field path it came from, so that every validation error
+// names the file, the field and what was expected (DESIGN.md principle 6). Internal to the core.
+#include <Eigen/Core>
+#include <filesystem>
+#include <initializer_list>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "vaw/error.hpp"
+
+namespace vaw::detail {
+
+using Json = nlohmann::json;
+
+// Reads and parses a JSON file; a missing file or a syntax error becomes an InputError with the
+// line and column.
+Json readJsonFile(const std::filesystem::path& file);
+
+class Node {
+ public:
+  Node(const Json& j, std::string path, const std::string& file) : j_(&j), path_(std::move(path)), file_(&file) {}
+
+  [[nodiscard]] const Json& json() const { return *j_; }
+  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] const std::string& file() const { return *file_; }
+  [[noreturn]] void fail(const std::string& expected) const;
+  [[noreturn]] void failWith(const std::string& expected, const std::string& found) const;
+
+  [[nodiscard]] bool has(const char* key) const;
+  [[nodiscard]] Node get(const char* key) const;                 // required member
+  [[nodiscard]] std::optional<Node> opt(const char* key) const;  // optional member
+  [[nodiscard]] Node at(std::size_t i) const;
+  [[nodiscard]] std::size_t size() const;
+  // Fails on keys outside `allowed`; keys starting with '_' are comments.
+  void allowOnly(std::initializer_list<const char*> allowed) const;
+
+  void requireObject() const;
+  void requireArray() const;
+  [[nodiscard]] std::string string() const;
+  [[nodiscard]] double number() const;  // finite
+  [[nodiscard]] double positive() const;
+  [[nodiscard]] double nonNegative() const;
+  [[nodiscard]] int integer() const;
+  [[nodiscard]] Eigen::Vector3d vec3() const;
+  [[nodiscard]] Eigen::Vector3d direction() const;  // non-zero, returned unit length
+
+ private:
+  const Json* j_;
+  std::string path_;
+  const std::string* file_;
+};
+
+std::string describe(const Json& j);
+
+}  // namespace vaw::detail

@@ -1,0 +1,640 @@
+#include "vaw/scene_loader.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "json_node.hpp"
+#include "vaw/primitives.hpp"
+#include "vaw/property_file.hpp"
+
+namespace vaw {
+
+using detail::Node;
+
+namespace {
+
+struct Units {
+  LengthUnit length = LengthUnit::Metre;
+  double L = 1.0;  // metres per file unit
+  double M = 1.0;  // kilograms per file unit
+};
+
+// Calls the user's progress callback over a sub-range and turns a "stop" answer into LoadCancelled.
+class Progress {
+ public:
+  explicit Progress(const ProgressFn& fn) : fn_(fn) {}
+  void report(double fraction, const std::string& stage) const {
+    if (fn_ && !fn_(std::clamp(fraction, 0.0, 1.0), stage)) throw LoadCancelled();
+  }
+  [[nodiscard]] ProgressFn sub(double from, double to) const {
+    if (!fn_) return {};
+    return [this, from, to](double f, const std::string& stage) {
+      return fn_(from + (to - from) * std::clamp(f, 0.0, 1.0), stage);
+    };
+  }
+
+ private:
+  const ProgressFn& fn_;
+};
+
+std::string toString(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+Eigen::Isometry3d readPose(const Node& n, double L) {
+  n.allowOnly({"position", "rotation"});
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  if (auto p = n.opt("position")) pose.translation() = p->vec3() * L;
+  if (auto r = n.opt("rotation")) {
+    r->requireObject();
+    if (r->has("quaternion")) {
+      r->allowOnly({"quaternion"});
+      const Node qn = r->get("quaternion");
+      if (!qn.json().is_array() || qn.size() != 4) qn.fail("[w, x, y, z]");
+      Eigen::Quaterniond q(qn.at(0).number(), qn.at(1).number(), qn.at(2).number(), qn.at(3).number());
+      if (std::abs(q.norm() - 1.0) > 1e-6) qn.failWith("a unit quaternion (norm within 1e-6 of 1)", "norm " + toString(q.norm()));
+      pose.linear() = q.normalized().toRotationMatrix();
+    } else {
+      r->allowOnly({"axis", "angle"});
+      const Eigen::Vector3d axis = r->get("axis").direction();
+      const double angle = r->get("angle").number() * M_PI / 180.0;
+      pose.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+    }
+  }
+  return pose;
+}
+
+Eigen::Vector3f readColor(const Node& n) {
+  const std::string s = n.string();
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return -1;
+  };
+  if (s.size() != 7 || s[0] != '#') n.fail("a colour \"#rrggbb\"");
+  float rgb[3];
+  for (int i = 0; i < 3; ++i) {
+    const int hi = hex(s[static_cast<std::size_t>(1 + 2 * i)]), lo = hex(s[static_cast<std::size_t>(2 + 2 * i)]);
+    if (hi < 0 || lo < 0) n.fail("a colour \"#rrggbb\"");
+    rgb[i] = static_cast<float>(hi * 16 + lo) / 255.0f;
+  }
+  return {rgb[0], rgb[1], rgb[2]};
+}
+
+double readDensity(const Node& n) {
+  std::optional<double> rho;
+  if (n.json().is_number()) rho = n.number();
+  else if (n.json().is_string()) rho = parseDensity(n.string());
+  else n.fail("a density: a number in kg/m^3 or \"<value> kg/m^3|g/cm^3|lb/in^3\"");
+  if (!rho) n.fail("a density with a known unit: kg/m^3, g/cm^3 or lb/in^3");
+  if (!(*rho > 0.0) || !std::isfinite(*rho)) n.failWith("a positive, finite density", toString(*rho) + " kg/m^3");
+  return *rho;
+}
+
+TriMesh readPrimitive(const Node& n, double L) {
+  n.requireObject();
+  const std::string type = n.get("type").string();
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  if (auto p = n.opt("pose")) pose = readPose(*p, L);
+  auto segments = [&](const char* key, int def, int minimum) {
+    if (auto s = n.opt(key)) {
+      const int v = s->integer();
+      if (v < minimum || v > 4096) s->fail("an integer from " + std::to_string(minimum) + " to 4096");
+      return v;
+    }
+    return def;
+  };
+  TriMesh m;
+  if (type == "box") {
+    n.allowOnly({"type", "size", "pose"});
+    const Node s = n.get("size");
+    const Eigen::Vector3d size = s.vec3() * L;
+    if ((size.array() <= 0.0).any()) s.fail("three positive lengths");
+    m = primitives::box(size);
+  } else if (type == "cylinder") {
+    n.allowOnly({"type", "radius", "height", "segments", "pose"});
+    m = primitives::cylinder(n.get("radius").positive() * L, n.get("height").positive() * L, segments("segments", 64, 3));
+  } else if (type == "tube") {
+    n.allowOnly({"type", "outer_radius", "inner_radius", "height", "segments", "pose"});
+    const double ro = n.get("outer_radius").positive() * L;
+    const Node inner = n.get("inner_radius");
+    const double ri = inner.positive() * L;
+    if (ri >= ro) inner.fail("an inner radius smaller than outer_radius");
+    m = primitives::tube(ro, ri, n.get("height").positive() * L, segments("segments", 64, 3));
+  } else if (type == "sphere") {
+    n.allowOnly({"type", "radius", "segments", "rings", "pose"});
+    m = primitives::sphere(n.get("radius").positive() * L, segments("segments", 64, 3), segments("rings", 32, 2));
+  } else {
+    n.get("type").fail("a primitive type: \"box\", \"cylinder\", \"tube\" or \"sphere\"");
+  }
+  m.transform(pose);
+  return m;
+}
+
+// Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid.
+void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings) {
+  if (mesh.triangles.empty()) vaw::fail(file, "mesh", "a mesh with triangles", "no triangles");
+  const MeshCheck raw = checkMesh(mesh);
+  if (raw.nonFiniteVertices > 0)
+    vaw::fail(file, "vertices", "finite vertex coordinates", std::to_string(raw.nonFiniteVertices) + " NaN or infinite vertices");
+  if (raw.badIndices > 0)
+    vaw::fail(file, "triangles", "vertex indices within range", std::to_string(raw.badIndices) + " triangles out of range");
+  const double diag = mesh.bounds().diagonal().norm();
+  // STL stores every corner separately; welding them is routine, not worth a warning.
+  weldVertices(mesh, 1e-9 * diag);
+  const std::size_t degenerate = removeDegenerateTriangles(mesh, 1e-14 * diag * diag);
+  if (degenerate > 0)
+    warnings.push_back({Diagnostic::Severity::Warning, file, "triangles", "triangles with non-zero area",
+                        std::to_string(degenerate) + " degenerate triangles removed"});
+  const MeshCheck c = checkMesh(mesh);
+  if (!c.closed()) vaw::fail(file, "mesh", "a closed mesh (every edge shared by exactly two triangles)", c.summary());
+  if (!c.consistentlyOriented())
+    vaw::fail(file, "mesh", "consistently oriented triangles (every edge traversed once each way)", c.summary());
+  const double volume = integrateVolume(mesh).volume;
+  if (!(volume > 0.0))
+    vaw::fail(file, "mesh", "outward-facing triangles enclosing a positive volume",
+              volume < 0.0 ? "volume " + toString(volume) + " m^3: the normals point inward (inverted)" : "zero volume");
+}
+
+struct Imported {
+  TriMesh mesh;  // merged, SI, welded, checked
+  ImportedNode root;
+  std::vector<std::string> warnings;
+};
+
+// Loads, converts and validates a mesh file; problems name the scene field that referenced it.
+class MeshCache {
+ public:
+  MeshCache(const ImporterRegistry& importers, Diagnostics& warnings) : importers_(importers), warnings_(warnings) {}
+
+  const Imported& get(const std::filesystem::path& file, double L, const Node& field, const ProgressFn& progress) {
+    const std::string key = std::filesystem::weakly_canonical(file).string() + "|" + toString(L);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    std::error_code ec;
+    if (!std::filesystem::exists(file, ec))
+      field.failWith("an existing mesh file", "\"" + file.string() + "\" does not exist");
+    const MeshImporter* importer = importers_.find(file);
+    if (!importer) {
+      std::string exts;
+      for (const auto& e : importers_.extensions()) exts += (exts.empty() ? "" : " ") + e;
+      field.failWith("a mesh format an importer plugin reads (" + (exts.empty() ? std::string("no importer plugins loaded") : exts) + ")",
+                     "\"" + file.extension().string() + "\"");
+    }
+    ImportedMesh im = importer->read(file, progress);
+    Imported out;
+    out.root = std::move(im.root);
+    out.warnings = std::move(im.warnings);
+    out.mesh = out.root.merged();
+    out.mesh.scale(L);
+    validateSolid(out.mesh, file.string(), warnings_);
+    return cache_.emplace(key, std::move(out)).first->second;
+  }
+
+ private:
+  const ImporterRegistry& importers_;
+  Diagnostics& warnings_;
+  std::map<std::string, Imported> cache_;
+};
+
+struct PartSpec {
+  Node node;
+  Eigen::Isometry3d parentPose;
+  TreeNode* treeNode;  // filled in once the part exists
+};
+
+TreeNode meshTree(const ImportedNode& n) {
+  TreeNode t;
+  t.kind = TreeNode::Kind::MeshNode;
+  t.name = n.name.empty() ? std::string("(unnamed)") : n.name;
+  for (const auto& c : n.children) t.children.push_back(meshTree(c));
+  return t;
+}
+
+class SceneReader {
+ public:
+  SceneReader(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
+              const ProgressFn& progress)
+      : path_(file), file_(file.string()), dir_(file.parent_path()), options_(options), progress_(progress),
+        meshes_(importers, assembly_.warnings) {}
+
+  Assembly read() {
+    progress_.report(0.0, "reading " + path_.filename().string());
+    json_ = detail::readJsonFile(path_);
+    const Node root(json_, "", file_);
+    root.requireObject();
+    root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment", "constraints"});
+    const Node format = root.get("format");
+    if (format.string() != "vaw-scene") format.fail("\"vaw-scene\"");
+    const Node version = root.get("version");
+    if (version.integer() != kSceneFormatVersion) version.fail("version " + std::to_string(kSceneFormatVersion) + " (the version this vaw reads)");
+
+    assembly_.name = root.get("name").string();
+    assembly_.source = path_;
+    assembly_.categorySettings = options_.categories;
+    readUnits(root.get("units"));
+    assembly_.units = units_.length;
+    readMaterials(root.get("materials"));
+
+    assembly_.tree.kind = TreeNode::Kind::Assembly;
+    assembly_.tree.name = assembly_.name;
+    const Node parts = root.get("parts");
+    parts.requireArray();
+    if (parts.size() == 0) parts.fail("at least one part");
+    collectParts(parts, Eigen::Isometry3d::Identity(), assembly_.tree);
+    for (std::size_t i = 0; i < specs_.size(); ++i) {
+      progress_.report(0.05 + 0.85 * static_cast<double>(i) / static_cast<double>(specs_.size()),
+                       "part " + std::to_string(i + 1) + " of " + std::to_string(specs_.size()));
+      readPart(specs_[i], i);
+    }
+    if (auto b = root.opt("base")) {
+      const auto id = assembly_.findPart(b->string());
+      if (!id) b->fail("the name of a part in this scene");
+      assembly_.base = id;
+    }
+    progress_.report(0.9, "environment");
+    if (auto env = root.opt("environment")) readEnvironment(*env);
+    if (auto cons = root.opt("constraints")) readConstraints(*cons);
+    progress_.report(1.0, "done");
+    return std::move(assembly_);
+  }
+
+ private:
+  void readUnits(const Node& n) {
+    std::string length = "m", mass = "kg";
+    const Node* lengthNode = &n;
+    std::optional<Node> ln, mn;
+    if (n.json().is_string()) {
+      length = n.string();
+    } else if (n.json().is_object()) {
+      n.allowOnly({"length", "mass"});
+      ln = n.get("length");
+      length = ln->string();
+      lengthNode = &*ln;
+      if ((mn = n.opt("mass"))) {
+        mass = mn->string();
+        if (!parseMassUnit(mass)) mn->fail("a mass unit: \"kg\", \"g\" or \"lb\"");
+      }
+    } else {
+      n.fail("a length unit (\"m\", \"mm\", \"inch\") or {\"length\": ..., \"mass\": ...}");
+    }
+    const auto lu = parseLengthUnit(length);
+    if (!lu) lengthNode->fail("a length unit: \"m\", \"mm\" or \"inch\"");
+    units_.length = *lu;
+    units_.L = toMetres(*lu);
+    units_.M = toKilograms(*parseMassUnit(mass));
+  }
+
+  void readMaterials(const Node& n) {
+    n.requireObject();
+    for (const auto& [key, value] : n.json().items()) {
+      if (!key.empty() && key[0] == '_') continue;
+      const Node m(value, n.path() + "." + key, file_);
+      m.allowOnly({"density", "friction", "color"});
+      Material mat;
+      mat.name = key;
+      if (auto d = m.opt("density")) mat.density = readDensity(*d);
+      if (auto f = m.opt("friction")) {
+        f->allowOnly({"static", "kinetic", "rotational"});
+        mat.staticFriction = f->get("static").nonNegative();
+        const Node kin = f->get("kinetic");
+        mat.kineticFriction = kin.nonNegative();
+        if (mat.kineticFriction > mat.staticFriction)
+          kin.fail("a kinetic coefficient no larger than the static one (" + toString(mat.staticFriction) + ")");
+        if (auto r = f->opt("rotational")) mat.rotationalFriction = r->nonNegative();
+      }
+      if (auto c = m.opt("color")) mat.color = readColor(*c);
+      assembly_.materials.emplace(key, mat);
+    }
+  }
+
+  void collectParts(const Node& list, const Eigen::Isometry3d& parentPose, TreeNode& parent) {
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Node e = list.at(i);
+      e.requireObject();
+      const Node nameNode = e.get("name");
+      const std::string name = nameNode.string();
+      if (name.empty()) nameNode.fail("a non-empty name");
+      if (e.has("children")) {
+        e.allowOnly({"name", "pose", "children"});
+        Eigen::Isometry3d pose = parentPose;
+        if (auto p = e.opt("pose")) pose = parentPose * readPose(*p, units_.L);
+        TreeNode group;
+        group.kind = TreeNode::Kind::Group;
+        group.name = name;
+        parent.children.push_back(std::move(group));
+        const Node children = e.get("children");
+        children.requireArray();
+        collectParts(children, pose, parent.children.back());
+      } else {
+        if (!partNames_.insert(name).second) nameNode.fail("a part name not used before in this scene");
+        TreeNode leaf;
+        leaf.kind = TreeNode::Kind::Part;
+        leaf.name = name;
+        leaf.index = specs_.size();
+        parent.children.push_back(std::move(leaf));
+        specs_.push_back({e, parentPose, nullptr});
+      }
+    }
+  }
+
+  // Tree nodes live in vectors that grew while collecting; find the leaf again by id.
+  static TreeNode* findLeaf(TreeNode& t, TreeNode::Kind kind, std::size_t index) {
+    if (t.kind == kind && t.index == index) return &t;
+    for (auto& c : t.children)
+      if (TreeNode* f = findLeaf(c, kind, index)) return f;
+    return nullptr;
+  }
+
+  struct Shape {
+    std::shared_ptr<const TriMesh> mesh;
+    std::string source;
+    std::optional<TreeNode> meshTree;
+  };
+
+  Shape readShape(const Node& e, const ProgressFn& progress) {
+    const bool hasMesh = e.has("mesh"), hasPrimitive = e.has("primitive");
+    if (hasMesh == hasPrimitive) e.failWith("exactly one of \"mesh\" or \"primitive\"", hasMesh ? "both" : "neither");
+    Shape s;
+    if (hasMesh) {
+      const Node m = e.get("mesh");
+      const std::filesystem::path file = dir_ / m.string();
+      const Imported& im = meshes_.get(file, units_.L, m, progress);
+      for (const auto& w : im.warnings) assembly_.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
+      s.mesh = std::make_shared<const TriMesh>(im.mesh);
+      s.source = m.string();
+      if (!im.root.children.empty()) s.meshTree = meshTree(im.root);
+    } else {
+      const Node p = e.get("primitive");
+      TriMesh mesh;
+      if (p.json().is_array()) {
+        if (p.size() == 0) p.fail("a primitive or a non-empty array of primitives");
+        for (std::size_t i = 0; i < p.size(); ++i) mesh.append(readPrimitive(p.at(i), units_.L));
+        s.source = "compound of " + std::to_string(p.size()) + " primitives";
+      } else {
+        mesh = readPrimitive(p, units_.L);
+        s.source = "primitive " + p.get("type").string();
+      }
+      s.mesh = std::make_shared<const TriMesh>(std::move(mesh));
+    }
+    return s;
+  }
+
+  void readPart(PartSpec& spec, std::size_t index) {
+    const Node& e = spec.node;
+    e.allowOnly({"name", "mesh", "primitive", "material", "pose", "final_pose", "properties", "density"});
+    Part part;
+    part.id = index;
+    part.name = e.get("name").string();
+    const Node matNode = e.get("material");
+    part.material = matNode.string();
+    auto mat = assembly_.materials.find(part.material);
+    if (mat == assembly_.materials.end()) matNode.fail("the name of a material in \"materials\"");
+
+    Shape shape = readShape(e, progress_.sub(0.05 + 0.85 * static_cast<double>(index) / static_cast<double>(specs_.size()),
+                                             0.05 + 0.85 * static_cast<double>(index + 1) / static_cast<double>(specs_.size())));
+    part.mesh = shape.mesh;
+    part.shapeSource = shape.source;
+    part.pose = spec.parentPose;
+    if (auto p = e.opt("pose")) part.pose = spec.parentPose * readPose(*p, units_.L);
+    if (auto p = e.opt("final_pose")) part.finalPose = spec.parentPose * readPose(*p, units_.L);
+
+    std::optional<double> density = mat->second.density;
+    if (auto d = e.opt("density")) density = readDensity(*d);
+    if (density) part.meshMass = massPropertiesFromMesh(*part.mesh, *density);
+    if (auto pf = e.opt("properties")) {
+      part.propertyFile = dir_ / pf->string();
+      std::error_code ec;
+      if (!std::filesystem::exists(part.propertyFile, ec))
+        pf->failWith("an existing property file", "\"" + part.propertyFile.string() + "\" does not exist");
+      part.fileMass = readPropertyFile(part.propertyFile).mass;
+    }
+    if (part.fileMass) {
+      part.mass = *part.fileMass;
+      part.massSource = MassSource::PropertyFile;
+      if (part.meshMass) {
+        part.disagreement = compare(*part.fileMass, *part.meshMass, part.mesh->bounds().diagonal().norm());
+        if (part.disagreement->worst() > options_.massDisagreementWarning) {
+          std::ostringstream s;
+          s << "mass " << 100.0 * part.disagreement->massRel << " %, centre of mass " << 1000.0 * part.disagreement->comDistance
+            << " mm, inertia " << 100.0 * part.disagreement->inertiaRel << " %";
+          assembly_.warnings.push_back({Diagnostic::Severity::Warning, part.propertyFile.string(), "mass properties",
+                                        "agreement with the mesh within " + toString(100.0 * options_.massDisagreementWarning) + " %",
+                                        s.str()});
+        }
+      }
+    } else if (part.meshMass) {
+      part.mass = *part.meshMass;
+      part.massSource = MassSource::Mesh;
+    } else {
+      e.failWith("a density (on the part or its material) or a \"properties\" file", "neither");
+    }
+    if (const std::string problem = inertiaProblem(part.mass.inertiaCm, 1e-6); !problem.empty())
+      e.failWith("mass properties with a physically valid inertia", problem);
+
+    part.principal = principalMoments(part.mass.inertiaCm);
+    part.extent = principalExtent(*part.mesh, part.principal.axes);
+    part.category = categorize(part.mass.mass, part.extent, options_.categories);
+
+    if (TreeNode* leaf = findLeaf(assembly_.tree, TreeNode::Kind::Part, index); leaf && shape.meshTree)
+      leaf->children = std::move(shape.meshTree->children);
+    assembly_.parts.push_back(std::move(part));
+  }
+
+  void readEnvironment(const Node& list) {
+    list.requireArray();
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Node e = list.at(i);
+      e.allowOnly({"name", "kind", "mesh", "primitive", "pose", "color"});
+      EnvironmentObject obj;
+      const Node nameNode = e.get("name");
+      obj.name = nameNode.string();
+      if (!names.insert(obj.name).second) nameNode.fail("a name not used by another environment object");
+      const Node kind = e.get("kind");
+      obj.kind = kind.string();
+      if (obj.kind != "table" && obj.kind != "floor" && obj.kind != "fixture") kind.fail("\"table\", \"floor\" or \"fixture\"");
+      Shape shape = readShape(e, {});
+      obj.mesh = shape.mesh;
+      obj.shapeSource = shape.source;
+      if (auto p = e.opt("pose")) obj.pose = readPose(*p, units_.L);
+      if (auto c = e.opt("color")) obj.color = readColor(*c);
+      TreeNode leaf;
+      leaf.kind = TreeNode::Kind::Environment;
+      leaf.name = obj.name;
+      leaf.index = assembly_.environment.size();
+      assembly_.tree.children.push_back(std::move(leaf));
+      assembly_.environment.push_back(std::move(obj));
+    }
+  }
+
+  Plane readPlane(const Node& n) {
+    n.allowOnly({"point", "normal"});
+    return {n.get("point").vec3() * units_.L, n.get("normal").direction()};
+  }
+  Axis readAxis(const Node& n) {
+    n.allowOnly({"point", "direction"});
+    return {n.get("point").vec3() * units_.L, n.get("direction").direction()};
+  }
+
+  void readConstraints(const Node& list) {
+    list.requireArray();
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Node c = list.at(i);
+      c.requireObject();
+      const Node typeNode = c.get("type");
+      const std::string type = typeNode.string();
+      Constraint con;
+      if (type == "mate" || type == "align") {
+        c.allowOnly({"type", "name", "part", "part_plane", "base_plane", "offset"});
+        con.type = type == "mate" ? Constraint::Type::Mate : Constraint::Type::Align;
+        con.partPlane = readPlane(c.get("part_plane"));
+        con.basePlane = readPlane(c.get("base_plane"));
+        if (auto o = c.opt("offset")) con.offset = o->number() * units_.L;
+      } else if (type == "insert") {
+        c.allowOnly({"type", "name", "part", "part_axis", "base_axis"});
+        con.type = Constraint::Type::Insert;
+        con.partAxis = readAxis(c.get("part_axis"));
+        con.baseAxis = readAxis(c.get("base_axis"));
+      } else {
+        typeNode.fail("a constraint type: \"mate\", \"align\" or \"insert\"");
+      }
+      if (!assembly_.base) c.failWith("a scene with a \"base\" part to constrain against", "no base");
+      const Node partNode = c.get("part");
+      const auto id = assembly_.findPart(partNode.string());
+      if (!id) partNode.fail("the name of a part in this scene");
+      if (*id == *assembly_.base) partNode.fail("a part other than the base");
+      con.part = *id;
+      con.name = c.has("name") ? c.get("name").string() : type + " " + partNode.string();
+      checkAtFinalPose(con, c);
+      assembly_.constraints.push_back(con);
+    }
+  }
+
+  // A constraint that the part's own assembled pose violates can never be satisfied: reject it.
+  void checkAtFinalPose(const Constraint& con, const Node& c) {
+    const Part& part = assembly_.parts[con.part];
+    if (!part.finalPose) return;
+    const Eigen::Isometry3d& P = *part.finalPose;
+    const Eigen::Isometry3d& B = assembly_.parts[*assembly_.base].pose;
+    constexpr double posTol = 1e-6, angTol = 1e-6;
+    std::ostringstream why;
+    if (con.type == Constraint::Type::Insert) {
+      const Eigen::Vector3d dp = P.linear() * con.partAxis.direction, db = B.linear() * con.baseAxis.direction;
+      const double angle = std::asin(std::min(1.0, dp.cross(db).norm()));
+      const Eigen::Vector3d pp = P * con.partAxis.point, pb = B * con.baseAxis.point;
+      const Eigen::Vector3d off = (pp - pb) - db * db.dot(pp - pb);
+      if (angle > angTol) why << "axes " << angle * 180.0 / M_PI << " deg apart";
+      else if (off.norm() > posTol) why << "axes " << off.norm() * 1000.0 << " mm apart";
+    } else {
+      const Eigen::Vector3d np = P.linear() * con.partPlane.normal, nb = B.linear() * con.basePlane.normal;
+      const double want = con.type == Constraint::Type::Mate ? -1.0 : 1.0;
+      const double angle = std::acos(std::clamp(want * np.dot(nb), -1.0, 1.0));
+      const double dist = nb.dot(P * con.partPlane.point - B * con.basePlane.point);
+      if (angle > angTol)
+        why << "plane normals " << angle * 180.0 / M_PI << " deg from " << (want < 0 ? "opposed" : "parallel");
+      else if (std::abs(dist - con.offset) > posTol)
+        why << "planes " << dist * 1000.0 << " mm apart, offset " << con.offset * 1000.0 << " mm";
+    }
+    if (!why.str().empty())
+      c.failWith("a constraint that holds at the part's final_pose (within 1e-6 m and 1e-6 rad)", why.str());
+  }
+
+  std::filesystem::path path_;
+  std::string file_;
+  std::filesystem::path dir_;
+  const LoadOptions& options_;
+  Progress progress_;
+  detail::Json json_;
+  Assembly assembly_;
+  MeshCache meshes_;
+  Units units_;
+  std::vector<PartSpec> specs_;
+  std::set<std::string> partNames_;
+};
+
+}  // namespace
+
+Assembly loadScene(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
+                   const ProgressFn& progress) {
+  return SceneReader(file, importers, options, progress).read();
+}
+
+Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
+                      const ProgressFn& progressFn) {
+  Progress progress(progressFn);
+  Assembly a;
+  a.source = file;
+  a.name = file.filename().string();
+  a.categorySettings = options.categories;
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) fail(file.string(), "", "an existing mesh file", "no such file");
+  const MeshImporter* importer = importers.find(file);
+  if (!importer) fail(file.string(), "", "a mesh format an importer plugin reads", "\"" + file.extension().string() + "\"");
+  ImportedMesh im = importer->read(file, progress.sub(0.0, 0.7));
+  for (const auto& w : im.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
+
+  // glTF is metres by its specification; the other formats carry no unit.
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  a.units = (ext == ".gltf" || ext == ".glb") ? LengthUnit::Metre : options.bareMeshUnits;
+  const double L = toMetres(a.units);
+  a.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "units", "a scene file to state units and materials",
+                        "assumed " + std::string(name(a.units)) + " and density " + toString(options.bareMeshDensity) + " kg/m^3"});
+  Material mat;
+  mat.name = "default";
+  mat.density = options.bareMeshDensity;
+  a.materials.emplace(mat.name, mat);
+
+  // One part per top-level node that has geometry; a flat file is one part.
+  std::vector<const ImportedNode*> roots;
+  if (im.root.mesh.triangleCount() > 0 || im.root.children.empty()) roots.push_back(&im.root);
+  else
+    for (const auto& c : im.root.children)
+      if (c.subtreeTriangles() > 0) roots.push_back(&c);
+
+  a.tree.kind = TreeNode::Kind::Assembly;
+  a.tree.name = a.name;
+  const std::string fileStr = file.string();
+  for (std::size_t i = 0; i < roots.size(); ++i) {
+    progress.report(0.7 + 0.3 * static_cast<double>(i) / static_cast<double>(roots.size()), "part " + std::to_string(i + 1));
+    const ImportedNode& n = *roots[i];
+    TriMesh mesh = n.merged();
+    mesh.scale(L);
+    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), a.warnings);
+    Part p;
+    p.id = i;
+    p.name = n.name.empty() || roots.size() == 1 ? file.stem().string() : n.name;
+    p.material = mat.name;
+    p.shapeSource = file.filename().string();
+    p.mesh = std::make_shared<const TriMesh>(std::move(mesh));
+    p.meshMass = massPropertiesFromMesh(*p.mesh, options.bareMeshDensity);
+    p.mass = *p.meshMass;
+    p.principal = principalMoments(p.mass.inertiaCm);
+    p.extent = principalExtent(*p.mesh, p.principal.axes);
+    p.category = categorize(p.mass.mass, p.extent, options.categories);
+    TreeNode leaf = meshTree(n);
+    leaf.kind = TreeNode::Kind::Part;
+    leaf.name = p.name;
+    leaf.index = i;
+    a.tree.children.push_back(std::move(leaf));
+    a.parts.push_back(std::move(p));
+  }
+  progress.report(1.0, "done");
+  return a;
+}
+
+Assembly loadAny(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
+                 const ProgressFn& progress) {
+  std::string ext = file.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (ext == ".json" || ext == ".vaw") return loadScene(file, importers, options, progress);
+  return loadMeshFile(file, importers, options, progress);
+}
+
+}  // namespace vaw

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Installs every build, test and run dependency of vaw from Debian 12's own packages.
+# Idempotent: packages already present are skipped by apt, and apt is not touched at all when
+# nothing is missing (so a repeat run is fast and works offline).
+set -euo pipefail
+
+packages=(
+  # toolchain
+  build-essential cmake ninja-build pkg-config file
+  # core libraries
+  libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev
+  # Qt 6: Qt3D's CMake package also needs the OpenGL, xkbcommon and Vulkan headers
+  qt6-base-dev qt6-3d-dev qt6-charts-dev qt6-svg-dev
+  libqt6opengl6-dev libqt6openglwidgets6 libxkbcommon-dev libvulkan-dev libgl-dev
+  qt6-qpa-plugins qt6-3d-defaultgeometryloader-plugin qt6-3d-assimpsceneimport-plugin
+  # tests and benchmarks
+  libbenchmark-dev libgtest-dev
+  # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe)
+  xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0
+  # packaging checks
+  desktop-file-utils appstream
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+if [ "$(id -u)" -ne 0 ]; then
+  if command -v sudo >/dev/null 2>&1; then SUDO=sudo; else
+    echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1
+  fi
+else
+  SUDO=
+fi
+
+echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+echo "install-deps: done"
