@@ -29,6 +29,9 @@ Json readJsonFile(const std::filesystem::path& file) {
     std::string what = e.what();
     if (auto p = what.find("syntax error"); p != std::string::npos) what = what.substr(p);
     fail(file.string(), "line " + std::to_string(line) + ", column " + std::to_string(column), "valid JSON", what);
+  } catch (const Json::exception& e) {
+    // nlohmann reports a number too large for a double (1e999) without a position.
+    fail(file.string(), "numbers", "finite numbers within the range of a double", e.what());
   }
 }
 

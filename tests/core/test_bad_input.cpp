@@ -1,0 +1,251 @@
+// Every kind of bad input gets an InputError naming the file, the field and what was expected;
+// nothing crashes and nothing is half-loaded.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+#include "vaw/primitives.hpp"
+#include "vaw/scene_loader.hpp"
+
+using namespace vaw;
+using nlohmann::json;
+
+namespace {
+
+json validScene() {
+  return json::parse(R"({
+    "format": "vaw-scene", "version": 1, "name": "probe", "units": "mm",
+    "materials": {"steel": {"density": 7850, "friction": {"static": 0.3, "kinetic": 0.2, "rotational": 0.0005}}},
+    "parts": [
+      {"name": "base", "primitive": {"type": "box", "size": [100, 100, 20]}, "material": "steel"},
+      {"name": "pin", "mesh": "pin.stl", "material": "steel", "pose": {"position": [0, 0, 200]},
+       "final_pose": {"position": [0, 0, 25]}}
+    ],
+    "base": "base",
+    "environment": [{"name": "table", "kind": "table", "primitive": {"type": "box", "size": [1000, 1000, 40]},
+                     "pose": {"position": [0, 0, -30]}}],
+    "constraints": [{"type": "insert", "part": "pin", "part_axis": {"point": [0, 0, 0], "direction": [0, 0, 1]},
+                     "base_axis": {"point": [0, 0, 0], "direction": [0, 0, 1]}}]
+  })");
+}
+
+json validProperties() {
+  return json::parse(R"({
+    "format": "vaw-properties", "version": 1, "units": {"length": "mm", "mass": "g"},
+    "mass": 18.5, "center_of_mass": [0, 0, 0],
+    "inertia_cm": [[1.5, 0, 0], [0, 1.5, 0], [0, 0, 0.23]]
+  })");
+}
+
+TriMesh pinMesh() { return primitives::cylinder(5, 30, 24); }
+
+struct Case {
+  std::string name;
+  std::function<std::filesystem::path(const std::filesystem::path& dir)> setup;  // returns the scene path
+  std::string field;     // substring of Diagnostic::field
+  std::string expected;  // substring of Diagnostic::expected
+  std::string fileEnds;  // the file the error must name (its ending)
+};
+
+std::filesystem::path writeScene(const std::filesystem::path& dir, const json& scene, const TriMesh& pin = pinMesh()) {
+  test::writeFile(dir / "pin.stl", test::asciiStl(pin));
+  return test::writeFile(dir / "scene.vaw.json", scene.dump(2));
+}
+
+Case edit(std::string name, std::function<void(json&)> change, std::string field, std::string expected,
+          std::string fileEnds = "scene.vaw.json") {
+  return {std::move(name),
+          [change](const std::filesystem::path& dir) {
+            json s = validScene();
+            change(s);
+            return writeScene(dir, s);
+          },
+          std::move(field), std::move(expected), std::move(fileEnds)};
+}
+
+Case properties(std::string name, std::function<void(json&)> change, std::string field, std::string expected) {
+  return {std::move(name),
+          [change](const std::filesystem::path& dir) {
+            json p = validProperties();
+            change(p);
+            test::writeFile(dir / "pin.props.json", p.dump(2));
+            json s = validScene();
+            s["parts"][1]["properties"] = "pin.props.json";
+            return writeScene(dir, s);
+          },
+          std::move(field), std::move(expected), "pin.props.json"};
+}
+
+Case mesh(std::string name, std::function<void(TriMesh&)> change, std::string field, std::string expected) {
+  return {std::move(name),
+          [change](const std::filesystem::path& dir) {
+            TriMesh m = pinMesh();
+            change(m);
+            return writeScene(dir, validScene(), m);
+          },
+          std::move(field), std::move(expected), "pin.stl"};
+}
+
+Case raw(std::string name, std::string text, std::string field, std::string expected) {
+  return {std::move(name),
+          [text](const std::filesystem::path& dir) { return test::writeFile(dir / "scene.vaw.json", text); },
+          std::move(field), std::move(expected), "scene.vaw.json"};
+}
+
+std::vector<Case> cases() {
+  return {
+      raw("MalformedJson", "{\"format\": \"vaw-scene\",\n  \"version\": 1,\n  \"name\": \"x\"\n  \"units\": \"mm\"}",
+          "line 4", "valid JSON"),
+      raw("NaNLiteral", "{\"format\": \"vaw-scene\", \"version\": NaN}", "line 1", "valid JSON"),
+      raw("TopLevelNotObject", "[1, 2, 3]", "(top level)", "an object"),
+      edit("WrongFormat", [](json& s) { s["format"] = "stl"; }, "format", "\"vaw-scene\""),
+      edit("FutureVersion", [](json& s) { s["version"] = 2; }, "version", "version 1"),
+      edit("UnknownUnits", [](json& s) { s["units"] = "furlong"; }, "units", "a length unit"),
+      edit("UnknownMassUnit", [](json& s) { s["units"] = {{"length", "mm"}, {"mass", "stone"}}; }, "units.mass", "a mass unit"),
+      edit("MissingMeshFile", [](json& s) { s["parts"][1]["mesh"] = "nowhere.stl"; }, "parts[1].mesh", "an existing mesh file"),
+      edit("UnknownMeshFormat", [](json& s) { s["parts"][1]["mesh"] = "scene.vaw.json"; }, "parts[1].mesh",
+           "a mesh format an importer plugin reads"),
+      edit("ZeroDensity", [](json& s) { s["materials"]["steel"]["density"] = 0; }, "materials.steel.density", "positive"),
+      edit("NegativeDensity", [](json& s) { s["parts"][1]["density"] = -7850; }, "parts[1].density", "positive"),
+      edit("UnknownDensityUnit", [](json& s) { s["parts"][1]["density"] = "7.8 kg/l"; }, "parts[1].density", "known unit"),
+      {"InfiniteNumber",
+       [](const std::filesystem::path& dir) {
+         json s = validScene();
+         s["parts"][1]["pose"]["position"][2] = "INFINITY";
+         std::string text = s.dump(2);
+         text.replace(text.find("\"INFINITY\""), 10, "1e999");  // JSON has no literal for infinity
+         test::writeFile(dir / "pin.stl", test::asciiStl(pinMesh()));
+         return test::writeFile(dir / "scene.vaw.json", text);
+       },
+       "numbers", "finite numbers", "scene.vaw.json"},
+      edit("ZeroAxis", [](json& s) { s["constraints"][0]["part_axis"]["direction"] = {0, 0, 0}; },
+           "constraints[0].part_axis.direction", "non-zero direction"),
+      edit("ConstraintOnMissingPart", [](json& s) { s["constraints"][0]["part"] = "ghost"; }, "constraints[0].part",
+           "the name of a part"),
+      edit("ConstraintOnBase", [](json& s) { s["constraints"][0]["part"] = "base"; }, "constraints[0].part",
+           "a part other than the base"),
+      edit("ImpossibleConstraint", [](json& s) { s["parts"][1]["final_pose"]["position"] = {10, 0, 25}; }, "constraints[0]",
+           "holds at the part's final_pose"),
+      edit("ConstraintWithoutBase", [](json& s) { s.erase("base"); }, "constraints[0]", "a \"base\" part"),
+      edit("BaseNotAPart", [](json& s) { s["base"] = "table"; }, "base", "the name of a part"),
+      edit("UnknownMaterial", [](json& s) { s["parts"][1]["material"] = "unobtainium"; }, "parts[1].material",
+           "the name of a material"),
+      edit("MisspelledKey", [](json& s) { s["parts"][1]["materail"] = "steel"; }, "parts[1].materail", "one of the keys"),
+      edit("DuplicatePartName", [](json& s) { s["parts"][1]["name"] = "base"; }, "parts[1].name", "not used before"),
+      edit("KineticAboveStatic", [](json& s) { s["materials"]["steel"]["friction"]["kinetic"] = 0.5; },
+           "materials.steel.friction.kinetic", "no larger than the static"),
+      edit("NonUnitQuaternion", [](json& s) { s["parts"][1]["pose"]["rotation"] = {{"quaternion", {2, 0, 0, 0}}}; },
+           "parts[1].pose.rotation.quaternion", "unit quaternion"),
+      edit("NoShape", [](json& s) { s["parts"][1].erase("mesh"); }, "parts[1]", "exactly one of"),
+      edit("NegativeBoxSize", [](json& s) { s["parts"][0]["primitive"]["size"] = {100, -1, 20}; }, "parts[0].primitive.size",
+           "three positive lengths"),
+      edit("NoDensityNoProperties", [](json& s) { s["materials"]["steel"].erase("density"); }, "parts[0]",
+           "a density (on the part or its material)"),
+      mesh("OpenMesh", [](TriMesh& m) { m.triangles.pop_back(); }, "mesh", "a closed mesh"),
+      mesh("InvertedNormals", [](TriMesh& m) { for (auto& t : m.triangles) std::swap(t[1], t[2]); }, "mesh",
+           "outward-facing triangles"),
+      mesh("InconsistentOrientation", [](TriMesh& m) { std::swap(m.triangles[5][1], m.triangles[5][2]); }, "mesh",
+           "consistently oriented"),
+      properties("PropertyFileMissingInertia", [](json& p) { p.erase("inertia_cm"); }, "inertia_cm", "required key"),
+      properties("PropertyFileMissingUnits", [](json& p) { p.erase("units"); }, "units", "required key"),
+      properties("ZeroMass", [](json& p) { p["mass"] = 0; }, "mass", "a positive number"),
+      properties("NegativeMass", [](json& p) { p["mass"] = -18.5; }, "mass", "a positive number"),
+      properties("NonSpdInertia", [](json& p) { p["inertia_cm"] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}}; }, "inertia_cm",
+                 "positive-definite"),
+      properties("TriangleInequality", [](json& p) { p["inertia_cm"] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 3}}; }, "inertia_cm",
+                 "I1 + I2 >= I3"),
+      properties("AsymmetricInertia", [](json& p) { p["inertia_cm"] = {{1.5, 0.2, 0}, {0, 1.5, 0}, {0, 0, 0.23}}; },
+                 "inertia_cm", "symmetric"),
+      properties("MassDensityVolumeDisagree", [](json& p) { p["density"] = 7850; p["volume"] = 1.0; }, "mass",
+                 "density * volume"),
+      properties("PropertyUnknownKey", [](json& p) { p["colour"] = "red"; }, "colour", "one of the keys"),
+  };
+}
+
+class BadInput : public ::testing::TestWithParam<Case> {};
+
+TEST_P(BadInput, NamedErrorNoCrash) {
+  const Case& c = GetParam();
+  const auto dir = test::tempDir();
+  const auto scene = c.setup(dir);
+  try {
+    (void)loadScene(scene, test::importers());
+    FAIL() << "loaded without error";
+  } catch (const InputError& e) {
+    const Diagnostic& d = e.diagnostic();
+    EXPECT_NE(d.field.find(c.field), std::string::npos) << "field: " << d.field << "\nmessage: " << e.what();
+    EXPECT_NE(d.expected.find(c.expected), std::string::npos) << "expected: " << d.expected << "\nmessage: " << e.what();
+    EXPECT_TRUE(d.file.ends_with(c.fileEnds)) << "file: " << d.file;
+    EXPECT_NE(std::string(e.what()).find(d.file), std::string::npos);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, BadInput, ::testing::ValuesIn(cases()),
+                         [](const ::testing::TestParamInfo<Case>& p) { return p.param.name; });
+
+TEST(BadInputSuite, HasAtLeastFifteenCases) { EXPECT_GE(cases().size(), 15u); }
+
+TEST(BadInputSuite, TheValidProbeLoads) {
+  // The cases above are single edits of this scene, so each error is caused by its edit alone.
+  const auto dir = test::tempDir();
+  const Assembly a = loadScene(writeScene(dir, validScene()), test::importers());
+  ASSERT_EQ(a.parts.size(), 2u);
+  // Mesh files carry single-precision vertices (assimp), so agreement is to float round-off.
+  const double exact = 7850 * 24 * 0.5 * 25e-6 * std::sin(2 * M_PI / 24) * 0.03;
+  EXPECT_NEAR(a.parts[1].mass.mass, exact, 1e-7 * exact);
+  const auto pdir = test::tempDir();
+  test::writeFile(pdir / "pin.props.json", validProperties().dump());
+  json s = validScene();
+  s["parts"][1]["properties"] = "pin.props.json";
+  const Assembly b = loadScene(writeScene(pdir, s), test::importers());
+  EXPECT_EQ(b.parts[1].massSource, MassSource::PropertyFile);
+  EXPECT_NEAR(b.parts[1].mass.mass, 0.0185, 1e-15);
+}
+
+TEST(BadInputSuite, MissingSceneFile) {
+  try {
+    (void)loadAny(test::tempDir() / "absent.vaw.json", test::importers());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().found, "no such file");
+  }
+}
+
+TEST(BadInputSuite, NonFiniteMeshVertex) {
+  const auto dir = test::tempDir();
+  std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e999\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  test::writeFile(dir / "bad.obj", obj);
+  try {
+    (void)loadMeshFile(dir / "bad.obj", test::importers());
+    FAIL() << "a mesh with an infinite vertex loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(e.diagnostic().file.find("bad.obj"), std::string::npos) << e.what();
+    EXPECT_EQ(e.diagnostic().expected, "finite vertex coordinates");
+  }
+}
+
+TEST(BadInputSuite, CorruptMeshFile) {
+  const auto dir = test::tempDir();
+  test::writeFile(dir / "broken.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nend_header\n\x01\x02");
+  try {
+    (void)loadMeshFile(dir / "broken.ply", test::importers());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_TRUE(e.diagnostic().file.ends_with("broken.ply")) << e.what();
+    EXPECT_NE(e.diagnostic().expected.find(".ply"), std::string::npos) << e.what();
+  }
+}
+
+TEST(BadInputSuite, DegenerateTrianglesAreRemovedWithAWarning) {
+  const auto dir = test::tempDir();
+  TriMesh m = pinMesh();
+  m.triangles.emplace_back(0, 1, 1);
+  const Assembly a = loadScene(writeScene(dir, validScene(), m), test::importers());
+  bool warned = false;
+  for (const auto& w : a.warnings) warned = warned || w.found.find("degenerate") != std::string::npos;
+  EXPECT_TRUE(warned);
+}
+
+}  // namespace
