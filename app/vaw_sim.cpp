@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "work_precision_command.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
 
@@ -13,11 +14,15 @@ namespace {
 
 constexpr const char* kUsage =
     "usage: vaw-sim inspect SCENE [--json] [--categories default|stricter]\n"
+    "       vaw-sim work-precision --out DIR [--repeats N] [--no-peers]\n"
     "\n"
     "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
     "             centre of mass, principal moments, category and why.\n"
     "  --json     print JSON instead of a table\n"
     "  --categories PRESET   lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)\n"
+    "  work-precision  run every scenario (slide with stop, gear pendulum undamped and damped,\n"
+    "             tumbling block) with every method at 30..1000 Hz, and the Bullet/ODE peers when\n"
+    "             built; write DIR/work-precision.csv and one chart per scenario (PNG and SVG)\n"
     "\n"
     "exit status: 0 ok, 1 bad input (the message names file, field and expectation), 2 usage\n";
 
@@ -128,6 +133,7 @@ int main(int argc, char** argv) {
   const std::string command = args[0];
   args.erase(args.begin());
   if (command == "inspect") return inspect(args);
+  if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
   std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
   return 2;
 }

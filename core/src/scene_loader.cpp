@@ -140,11 +140,15 @@ TriMesh readPrimitive(const Node& n, double L) {
 // Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid.
 void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings) {
   if (mesh.triangles.empty()) vaw::fail(file, "mesh", "a mesh with triangles", "no triangles");
-  const MeshCheck raw = checkMesh(mesh);
-  if (raw.nonFiniteVertices > 0)
-    vaw::fail(file, "vertices", "finite vertex coordinates", std::to_string(raw.nonFiniteVertices) + " NaN or infinite vertices");
-  if (raw.badIndices > 0)
-    vaw::fail(file, "triangles", "vertex indices within range", std::to_string(raw.badIndices) + " triangles out of range");
+  // Before welding only what would poison the weld matters; the edge checks run once, after it.
+  const auto nonFinite = std::count_if(mesh.vertices.begin(), mesh.vertices.end(), [](const Eigen::Vector3d& v) { return !v.allFinite(); });
+  if (nonFinite > 0)
+    vaw::fail(file, "vertices", "finite vertex coordinates", std::to_string(nonFinite) + " NaN or infinite vertices");
+  const auto n = static_cast<int>(mesh.vertices.size());
+  const auto badIndices = std::count_if(mesh.triangles.begin(), mesh.triangles.end(),
+                                        [n](const Eigen::Vector3i& t) { return t.minCoeff() < 0 || t.maxCoeff() >= n; });
+  if (badIndices > 0)
+    vaw::fail(file, "triangles", "vertex indices within range", std::to_string(badIndices) + " triangles out of range");
   const double diag = mesh.bounds().diagonal().norm();
   // STL stores every corner separately; welding them is routine, not worth a warning.
   weldVertices(mesh, 1e-9 * diag);
