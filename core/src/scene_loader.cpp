@@ -212,6 +212,12 @@ struct PartSpec {
   TreeNode* treeNode;  // filled in once the part exists
 };
 
+std::size_t nodesWithGeometry(const ImportedNode& n) {
+  std::size_t count = n.mesh.triangleCount() > 0 ? 1 : 0;
+  for (const auto& c : n.children) count += nodesWithGeometry(c);
+  return count;
+}
+
 TreeNode meshTree(const ImportedNode& n) {
   TreeNode t;
   t.kind = TreeNode::Kind::MeshNode;
@@ -372,7 +378,8 @@ class SceneReader {
       for (const auto& w : im.warnings) assembly_.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
       s.mesh = std::make_shared<const TriMesh>(im.mesh);
       s.source = m.string();
-      if (!im.root.children.empty()) s.meshTree = meshTree(im.root);
+      // A file whose geometry sits in one node has no hierarchy worth showing.
+      if (nodesWithGeometry(im.root) > 1) s.meshTree = meshTree(im.root);
     } else {
       const Node p = e.get("primitive");
       TriMesh mesh;
@@ -622,7 +629,7 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
     p.principal = principalMoments(p.mass.inertiaCm);
     p.extent = principalExtent(*p.mesh, p.principal.axes);
     p.category = categorize(p.mass.mass, p.extent, options.categories);
-    TreeNode leaf = meshTree(n);
+    TreeNode leaf = nodesWithGeometry(n) > 1 ? meshTree(n) : TreeNode{};
     leaf.kind = TreeNode::Kind::Part;
     leaf.name = p.name;
     leaf.index = i;

@@ -1,0 +1,188 @@
+#include "vaw/ui/assembly_controller.hpp"
+
+#include <QFile>
+#include <QFileInfo>
+#include <QMetaObject>
+#include <QtConcurrent/QtConcurrentRun>
+#include <exception>
+#include <mutex>
+#include <string>
+
+#include "vaw/error.hpp"
+
+namespace vaw::ui {
+
+namespace {
+
+QString fromStd(const std::string& s) { return QString::fromStdString(s); }
+
+std::filesystem::path toPath(const QString& path) {
+  return std::filesystem::path(QFile::encodeName(path).toStdString());
+}
+
+}  // namespace
+
+AssemblyController::AssemblyController(QObject* parent)
+    : AssemblyController(vaw::ImporterRegistry::defaultPluginDirs(), parent) {}
+
+AssemblyController::AssemblyController(const std::vector<std::filesystem::path>& pluginDirs,
+                                       QObject* parent)
+    : QObject(parent) {
+  qRegisterMetaType<vaw::ui::LoadFailure>();
+  for (const auto& dir : pluginDirs) {
+    try {
+      for (const auto& message : registry_.loadPlugins(dir)) pluginMessages_ << fromStd(message);
+    } catch (const std::exception& e) {
+      pluginMessages_ << tr("Cannot load plugins from %1: %2")
+                             .arg(QString::fromStdString(dir.string()), QString::fromUtf8(e.what()));
+    }
+  }
+  if (registry_.importerNames().empty()) {
+    QStringList searched;
+    for (const auto& dir : pluginDirs) searched << QString::fromStdString(dir.string());
+    pluginMessages_ << tr("No mesh importer plugin found (searched: %1); only scenes made of "
+                          "primitives can be opened. Set VAW_PLUGIN_PATH to the plugin folder.")
+                           .arg(searched.isEmpty() ? tr("nothing") : searched.join(QStringLiteral(", ")));
+  }
+  setLoader({});
+  connect(&watcher_, &QFutureWatcher<Outcome>::finished, this, &AssemblyController::finished);
+}
+
+AssemblyController::~AssemblyController() {
+  // The worker posts progress to this object: it must stop before we go.
+  pendingPath_.reset();
+  if (cancel_) cancel_->store(true);
+  watcher_.disconnect(this);
+  watcher_.waitForFinished();
+}
+
+void AssemblyController::setLoader(Loader loader) {
+  loader_ = loader ? std::move(loader) : Loader(&vaw::loadAny);
+}
+
+QStringList AssemblyController::fileDialogFilters() const {
+  QStringList meshPatterns;
+  for (const auto& ext : registry_.extensions()) meshPatterns << QStringLiteral("*.") + fromStd(ext);
+  QStringList filters;
+  QStringList everything{QStringLiteral("*.vaw.json"), QStringLiteral("*.json")};
+  everything << meshPatterns;
+  filters << tr("Scenes and meshes (%1)").arg(everything.join(QLatin1Char(' ')));
+  filters << tr("Scenes (*.vaw.json *.json)");
+  if (!meshPatterns.isEmpty()) filters << tr("Meshes (%1)").arg(meshPatterns.join(QLatin1Char(' ')));
+  filters << tr("All files (*)");
+  return filters;
+}
+
+void AssemblyController::open(const QString& path) {
+  if (watcher_.isRunning()) {
+    pendingPath_ = path;
+    cancelLoad();
+    return;
+  }
+  start(path);
+}
+
+void AssemblyController::reload() {
+  if (!currentPath_.isEmpty()) open(currentPath_);
+}
+
+void AssemblyController::cancelLoad() {
+  if (cancel_) cancel_->store(true);
+}
+
+void AssemblyController::start(const QString& path) {
+  loadingPath_ = path;
+  cancel_ = std::make_shared<std::atomic<bool>>(false);
+  emit loadStarted(path);
+  auto cancel = cancel_;
+  watcher_.setFuture(QtConcurrent::run([this, path, loader = loader_, options = options_, cancel] {
+    return runLoad(path, loader, options, cancel);
+  }));
+}
+
+// Runs on the worker thread. Touches only its arguments and the registry (const); progress reaches
+// the GUI thread through queued calls.
+AssemblyController::Outcome AssemblyController::runLoad(const QString& path, const Loader& loader,
+                                                        const vaw::LoadOptions& options,
+                                                        const std::shared_ptr<std::atomic<bool>>& cancel) {
+  Outcome out;
+  struct Throttle {
+    std::mutex mutex;
+    double lastFraction = -1.0;
+    std::string lastStage;
+  };
+  auto throttle = std::make_shared<Throttle>();
+  const vaw::ProgressFn progressFn = [this, cancel, throttle](double fraction, const std::string& stage) {
+    {
+      const std::lock_guard lock(throttle->mutex);
+      if (stage != throttle->lastStage || fraction - throttle->lastFraction >= 0.01 || fraction >= 1.0) {
+        throttle->lastFraction = fraction;
+        throttle->lastStage = stage;
+        const QString qstage = QString::fromStdString(stage);
+        QMetaObject::invokeMethod(
+            this, [this, fraction, qstage] { emit progress(fraction, qstage); }, Qt::QueuedConnection);
+      }
+    }
+    return !cancel->load();
+  };
+  const auto fail = [&](LoadFailure f) {
+    if (cancel->load()) {
+      out.cancelled = true;
+    } else {
+      f.path = path;
+      out.failure = std::move(f);
+    }
+  };
+  try {
+    out.assembly = std::make_shared<vaw::Assembly>(loader(toPath(path), registry_, options, progressFn));
+  } catch (const vaw::LoadCancelled&) {
+    out.cancelled = true;
+  } catch (const vaw::InputError& e) {
+    const auto& d = e.diagnostic();
+    LoadFailure f;
+    f.message = fromStd(d.message());
+    f.inputError = true;
+    f.file = fromStd(d.file);
+    f.field = fromStd(d.field);
+    f.expected = fromStd(d.expected);
+    f.found = fromStd(d.found);
+    fail(std::move(f));
+  } catch (const std::exception& e) {
+    LoadFailure f;
+    f.message = tr("%1: %2").arg(path, QString::fromUtf8(e.what()));
+    fail(std::move(f));
+  } catch (...) {
+    LoadFailure f;
+    f.message = tr("%1: unknown error while loading").arg(path);
+    fail(std::move(f));
+  }
+  if (cancel->load()) {  // the user cancelled: whatever came back is discarded
+    out.assembly.reset();
+    out.failure.reset();
+    out.cancelled = true;
+  }
+  return out;
+}
+
+void AssemblyController::finished() {
+  Outcome out = watcher_.result();
+  const QString path = loadingPath_;
+  loadingPath_.clear();
+  if (out.assembly) {
+    assembly_ = std::make_unique<vaw::Assembly>(std::move(*out.assembly));
+    currentPath_ = QFileInfo(path).absoluteFilePath();
+    emit assemblyLoaded();
+  } else if (out.failure) {
+    emit loadFailed(*out.failure);
+  } else {
+    emit loadCancelled(path);
+  }
+  emit loadFinished();
+  if (pendingPath_) {
+    const QString next = *pendingPath_;
+    pendingPath_.reset();
+    start(next);
+  }
+}
+
+}  // namespace vaw::ui

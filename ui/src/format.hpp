@@ -1,0 +1,18 @@
+#pragma once
+// Display formatting shared by the panels. vaw is SI inside; panels show lengths in mm, masses in kg.
+#include <Eigen/Core>
+#include <QString>
+#include <string>
+
+namespace vaw::ui::format {
+
+inline QString str(const std::string& s) { return QString::fromStdString(s); }
+// A number with `digits` significant digits, no exponent for everyday magnitudes.
+QString number(double value, int digits = 4);
+QString mass(double kg);             // "1.234 kg" / "12.3 g"
+QString lengthMm(double metres);     // "12.5 mm"
+QString vectorMm(const Eigen::Vector3d& metres);  // "(1, 2, 3) mm"
+QString volume(double cubicMetres);  // "123.4 cm³"
+QString percent(double fraction);    // "1.23 %"
+
+}  // namespace vaw::ui::format

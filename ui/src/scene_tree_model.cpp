@@ -1,0 +1,180 @@
+#include "vaw/ui/scene_tree_model.hpp"
+
+#include <QApplication>
+#include <QStyle>
+
+#include "format.hpp"
+
+namespace vaw::ui {
+
+namespace {
+
+QString kindName(vaw::TreeNode::Kind kind) {
+  switch (kind) {
+    case vaw::TreeNode::Kind::Assembly: return SceneTreeModel::tr("assembly");
+    case vaw::TreeNode::Kind::Group: return SceneTreeModel::tr("group");
+    case vaw::TreeNode::Kind::Part: return SceneTreeModel::tr("part");
+    case vaw::TreeNode::Kind::Environment: return SceneTreeModel::tr("environment");
+    case vaw::TreeNode::Kind::MeshNode: return SceneTreeModel::tr("mesh node");
+  }
+  return {};
+}
+
+}  // namespace
+
+SceneTreeModel::SceneTreeModel(QObject* parent) : QAbstractItemModel(parent) {}
+
+void SceneTreeModel::setAssembly(const vaw::Assembly* assembly) {
+  beginResetModel();
+  items_.clear();
+  if (assembly != nullptr) {
+    vaw::TreeNode root = assembly->tree;
+    if (root.name.empty()) root.name = assembly->name;
+    add(*assembly, root, -1, 0, std::nullopt);
+  }
+  endResetModel();
+}
+
+int SceneTreeModel::add(const vaw::Assembly& assembly, const vaw::TreeNode& node, int parent, int row,
+                        std::optional<vaw::PartId> owningPart) {
+  using Kind = vaw::TreeNode::Kind;
+  Item item;
+  item.name = format::str(node.name);
+  item.kind = node.kind;
+  item.parent = parent;
+  item.row = row;
+  item.toolTip = kindName(node.kind);
+  switch (node.kind) {
+    case Kind::Part:
+      if (node.index < assembly.parts.size()) {
+        const vaw::Part& part = assembly.parts[node.index];
+        item.part = part.id;
+        item.category = format::str(std::string(vaw::name(part.category.category)));
+        item.mass = format::mass(part.mass.mass);
+        item.toolTip = tr("part \"%1\": %2, %3\n%4")
+                           .arg(item.name, item.category, item.mass, format::str(part.category.reason));
+        if (assembly.base && *assembly.base == part.id) item.category += tr(" (base)");
+      }
+      owningPart = item.part;
+      break;
+    case Kind::Environment:
+      if (node.index < assembly.environment.size()) {
+        item.category = format::str(assembly.environment[node.index].kind);
+      }
+      break;
+    case Kind::MeshNode:
+      item.part = owningPart;
+      item.category = kindName(node.kind);
+      break;
+    case Kind::Assembly:
+    case Kind::Group:
+      break;
+  }
+  const int self = static_cast<int>(items_.size());
+  items_.push_back(std::move(item));
+  std::vector<int> children;
+  children.reserve(node.children.size());
+  int childRow = 0;
+  for (const auto& child : node.children) children.push_back(add(assembly, child, self, childRow++, owningPart));
+  items_[static_cast<std::size_t>(self)].children = std::move(children);
+  return self;
+}
+
+const SceneTreeModel::Item* SceneTreeModel::itemAt(const QModelIndex& index) const {
+  if (!index.isValid() || index.model() != this) return nullptr;
+  const auto id = static_cast<std::size_t>(index.internalId());
+  return id < items_.size() ? &items_[id] : nullptr;
+}
+
+QModelIndex SceneTreeModel::indexOfPart(vaw::PartId part) const {
+  for (std::size_t i = 0; i < items_.size(); ++i) {
+    if (items_[i].kind == vaw::TreeNode::Kind::Part && items_[i].part == part) {
+      return createIndex(items_[i].row, 0, static_cast<quintptr>(i));
+    }
+  }
+  return {};
+}
+
+std::optional<vaw::PartId> SceneTreeModel::partAt(const QModelIndex& index) const {
+  const Item* item = itemAt(index);
+  return item != nullptr ? item->part : std::nullopt;
+}
+
+std::size_t SceneTreeModel::partCount() const {
+  std::size_t n = 0;
+  for (const auto& item : items_) n += item.kind == vaw::TreeNode::Kind::Part ? 1 : 0;
+  return n;
+}
+
+QModelIndex SceneTreeModel::index(int row, int column, const QModelIndex& parent) const {
+  if (row < 0 || column < 0 || column >= ColumnCount) return {};
+  if (!parent.isValid()) {
+    return (row == 0 && !items_.empty()) ? createIndex(0, column, quintptr{0}) : QModelIndex();
+  }
+  const Item* p = itemAt(parent);
+  if (p == nullptr || parent.column() != 0 || row >= static_cast<int>(p->children.size())) return {};
+  return createIndex(row, column, static_cast<quintptr>(p->children[static_cast<std::size_t>(row)]));
+}
+
+QModelIndex SceneTreeModel::parent(const QModelIndex& child) const {
+  const Item* item = itemAt(child);
+  if (item == nullptr || item->parent < 0) return {};
+  const auto& p = items_[static_cast<std::size_t>(item->parent)];
+  return createIndex(p.row, 0, static_cast<quintptr>(item->parent));
+}
+
+int SceneTreeModel::rowCount(const QModelIndex& parent) const {
+  if (!parent.isValid()) return items_.empty() ? 0 : 1;
+  if (parent.column() != 0) return 0;
+  const Item* p = itemAt(parent);
+  return p != nullptr ? static_cast<int>(p->children.size()) : 0;
+}
+
+int SceneTreeModel::columnCount(const QModelIndex& /*parent*/) const { return ColumnCount; }
+
+QVariant SceneTreeModel::data(const QModelIndex& index, int role) const {
+  const Item* item = itemAt(index);
+  if (item == nullptr) return {};
+  switch (role) {
+    case Qt::DisplayRole:
+      switch (index.column()) {
+        case NameColumn: return item->name;
+        case CategoryColumn: return item->category;
+        case MassColumn: return item->mass;
+        default: return {};
+      }
+    case Qt::ToolTipRole: return item->toolTip;
+    case Qt::DecorationRole: {
+      if (index.column() != NameColumn) return {};
+      const QStyle* style = QApplication::style();
+      if (style == nullptr) return {};
+      switch (item->kind) {
+        case vaw::TreeNode::Kind::Assembly: return style->standardIcon(QStyle::SP_DirHomeIcon);
+        case vaw::TreeNode::Kind::Group: return style->standardIcon(QStyle::SP_DirIcon);
+        case vaw::TreeNode::Kind::Part: return style->standardIcon(QStyle::SP_FileIcon);
+        case vaw::TreeNode::Kind::Environment: return style->standardIcon(QStyle::SP_DriveHDIcon);
+        case vaw::TreeNode::Kind::MeshNode: return style->standardIcon(QStyle::SP_FileLinkIcon);
+      }
+      return {};
+    }
+    case Qt::TextAlignmentRole:
+      if (index.column() == MassColumn) return QVariant::fromValue(Qt::AlignRight | Qt::AlignVCenter);
+      return {};
+    case PartIdRole:
+      return item->part ? QVariant::fromValue(static_cast<qulonglong>(*item->part)) : QVariant();
+    case KindRole: return static_cast<int>(item->kind);
+    default: return {};
+  }
+}
+
+QVariant SceneTreeModel::headerData(int section, Qt::Orientation orientation, int role) const {
+  if (orientation != Qt::Horizontal || role != Qt::DisplayRole) return {};
+  switch (section) {
+    case NameColumn: return tr("Name");
+    case CategoryColumn: return tr("Category");
+    case MassColumn: return tr("Mass");
+    default: return {};
+  }
+}
+
+}  // namespace vaw::ui
