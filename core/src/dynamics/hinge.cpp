@@ -51,6 +51,16 @@ void Hinge::step(HingeState& s, const HingeTorque& t, double h, Method m) const 
   s.omega = next.v;
 }
 
+SlideStep stepCylindrical(CylindricalState& s, const Hinge& hinge, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& g,
+                          AxisSlideInput slideInput, const Friction& friction, double h, Method m) {
+  hinge.step(s.rotation, hinge.torque(basePose.linear(), g), h, m);
+  slideInput.u = basePose.linear() * hinge.axisInBase();
+  slideInput.g = g;
+  // The slide's acceleration is constant within the step, so its closed form is exact whatever
+  // method the rotation uses.
+  return stepAxisSlide(s.slide, slideInput, friction, h, Method::Exact);
+}
+
 Eigen::Isometry3d Hinge::partInBase(double angle, double slide) const {
   Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
   motion.linear() = Eigen::AngleAxisd(angle, u_).toRotationMatrix();

@@ -58,6 +58,29 @@ std::optional<Eigen::Vector3d> lineOfPlanes(const Eigen::Vector3d& n1, const Eig
 
 double staticFrictionAngle(double fs) { return M_PI / 2.0 - std::atan(fs); }
 
+AxisSlideInput axisInWorld(const Eigen::Vector3d& directionInBase, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& g) {
+  AxisSlideInput in;
+  in.u = (basePose.linear() * directionInBase).normalized();
+  in.g = g;
+  return in;
+}
+
+PlaneSlideInput planeInWorld(const Eigen::Vector3d& normalInBase, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& g) {
+  const Eigen::Vector3d n = normalInBase.normalized();
+  // Any base-fixed basis will do; take the base axis least aligned with the normal.
+  Eigen::Index least = 0;
+  n.cwiseAbs().minCoeff(&least);
+  const Eigen::Vector3d e1 = (Eigen::Vector3d::Unit(least) - n * n[least]).normalized();
+  const Eigen::Vector3d e2 = n.cross(e1);
+  const Eigen::Matrix3d R = basePose.linear();
+  PlaneSlideInput in;
+  in.n = R * n;
+  in.e1 = R * e1;
+  in.e2 = R * e2;
+  in.g = g;
+  return in;
+}
+
 AxisGravity splitGravity(const Eigen::Vector3d& u, const Eigen::Vector3d& g) {
   const double along = g.dot(u);
   return {along, (g - u * along).norm()};

@@ -57,10 +57,16 @@ class Hinge {
   double m_ = 0, J_ = 0, d_ = 0, fr_ = 0;
 };
 
-// Rotation and slide on one axis together (paper picture 10).
+// Rotation and slide on one axis together (paper picture 10): the rotation as above, the slide along
+// the same axis with Coulomb friction (slide.hpp, normal force from gravity's part across the axis).
 struct CylindricalState {
   HingeState rotation;
   AxisSlideState slide;
 };
+
+// One step of both: the rotation with `m`, the slide in closed form. `slideInput` gives the slide's
+// bounds (u and g are set from the hinge's axis, the base's orientation and g). Returns the slide's event.
+SlideStep stepCylindrical(CylindricalState& s, const Hinge& hinge, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& g,
+                          AxisSlideInput slideInput, const Friction& friction, double h, Method m);
 
 }  // namespace vaw::dyn

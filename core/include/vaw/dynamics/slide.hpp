@@ -51,6 +51,10 @@ SlideStep stepAxisSlide(AxisSlideState& state, const AxisSlideInput& in, const F
 struct AxisGravity { double along; double normal; };
 AxisGravity splitGravity(const Eigen::Vector3d& u, const Eigen::Vector3d& g);
 
+// The slide inputs for this step from the constraint geometry in the base's frame and the base's
+// current pose: a hand-held base turns the axis and the plane under the part every step.
+AxisSlideInput axisInWorld(const Eigen::Vector3d& directionInBase, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& g);
+
 // ---- 2-D ----
 struct PlaneSlideState {
   Eigen::Vector2d p = Eigen::Vector2d::Zero();  // m in the plane basis (e1, e2)
@@ -64,6 +68,10 @@ struct PlaneSlideInput {
   Eigen::Vector3d e2 = Eigen::Vector3d::UnitY();
   Eigen::Vector3d g = Eigen::Vector3d::Zero();
 };
+
+// normalInBase: the base surface's outward normal in the base frame. The in-plane basis is fixed in the
+// base (so plane coordinates stay meaningful while the base turns).
+PlaneSlideInput planeInWorld(const Eigen::Vector3d& normalInBase, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& g);
 
 // Kinetic friction opposes the velocity (not the slope). A stop inside the step is located from the
 // speed's rate of change; gravity pulling the part off the surface (n.g > 0) is LostContact.
