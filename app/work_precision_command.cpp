@@ -32,7 +32,7 @@ void writeCsv(const std::filesystem::path& file, const std::vector<dyn::Record>&
 }
 
 #ifdef VAW_HAVE_PEERS
-void addPeers(std::vector<dyn::Record>& records, const dyn::WorkPrecisionOptions& o) {
+void addPeers(std::vector<dyn::Record>& records, const dyn::WorkPrecisionOptions& o, bool tty) {
   const dyn::SlideScenario slide;
   dyn::PendulumScenario undamped, damped;
   damped.fr = 0.0005;
@@ -40,7 +40,7 @@ void addPeers(std::vector<dyn::Record>& records, const dyn::WorkPrecisionOptions
   const dyn::Samples undampedRef = dyn::pendulumReference(undamped), dampedRef = dyn::pendulumReference(damped);
   for (const auto& peer : peers::availablePeers()) {
     for (int rate : dyn::kStepRates) {
-      std::fprintf(stderr, "\rpeer %s at %d Hz        ", peer.name.c_str(), rate);
+      if (tty) std::fprintf(stderr, "\rpeer %s at %d Hz        ", peer.name.c_str(), rate);
       const auto s = peer.slide(slide, rate, o);
       records.push_back({"slide-with-stop", peer.name, static_cast<double>(rate), s.cpuPerSimSecond,
                          dyn::maxAbsDifference(s.samples, slideRef), "m", true, s.note});
@@ -52,7 +52,7 @@ void addPeers(std::vector<dyn::Record>& records, const dyn::WorkPrecisionOptions
       }
     }
   }
-  std::fprintf(stderr, "\n");
+  if (tty) std::fprintf(stderr, "\n");
 }
 #endif
 
@@ -88,7 +88,7 @@ int workPrecision(const std::vector<std::string>& args, int argc, char** argv) {
   });
   std::fprintf(stderr, "\n");
 #ifdef VAW_HAVE_PEERS
-  if (peers) addPeers(records, options);
+  if (peers) addPeers(records, options, tty);
 #else
   if (peers) std::fprintf(stderr, "vaw-sim: built without the Bullet/ODE peers\n");
 #endif
