@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "work_precision_command.hpp"
+#include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
 
@@ -15,6 +16,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: vaw-sim inspect SCENE [--json] [--categories default|stricter]\n"
     "       vaw-sim work-precision --out DIR [--repeats N] [--no-peers]\n"
+    "       vaw-sim states [--dot]\n"
     "\n"
     "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
     "             centre of mass, principal moments, category and why.\n"
@@ -23,6 +25,7 @@ constexpr const char* kUsage =
     "  work-precision  run every scenario (slide with stop, gear pendulum undamped and damped,\n"
     "             tumbling block) with every method at 30..1000 Hz, and the Bullet/ODE peers when\n"
     "             built; write DIR/work-precision.csv and one chart per scenario (PNG and SVG)\n"
+    "  states     print the part-state transition table (--dot: as Graphviz, docs/states.dot)\n"
     "\n"
     "exit status: 0 ok, 1 bad input (the message names file, field and expectation), 2 usage\n";
 
@@ -133,6 +136,15 @@ int main(int argc, char** argv) {
   const std::string command = args[0];
   args.erase(args.begin());
   if (command == "inspect") return inspect(args);
+  if (command == "states") {
+    const bool dot = !args.empty() && args[0] == "--dot";
+    if (args.size() > (dot ? 1u : 0u)) {
+      std::fprintf(stderr, "%s", kUsage);
+      return 2;
+    }
+    std::fputs((dot ? vaw::interact::tableDot() : vaw::interact::tableText()).c_str(), stdout);
+    return 0;
+  }
   if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
   std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
   return 2;

@@ -21,6 +21,8 @@ packages=(
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0
   # packaging checks
   desktop-file-utils appstream
+  # regenerating docs/states.svg from docs/states.dot
+  graphviz
 )
 
 missing=()
