@@ -21,6 +21,16 @@ AxisSlideInput tiltedAxis(double tilt) {
   return in;
 }
 
+// A plane tilted `tilt` about y; e1 points downhill.
+PlaneSlideInput slope(double tilt) {
+  PlaneSlideInput in;
+  in.n = Eigen::Vector3d(std::sin(tilt), 0, std::cos(tilt));
+  in.e1 = Eigen::Vector3d(std::cos(tilt), 0, -std::sin(tilt));
+  in.e2 = in.n.cross(in.e1);
+  in.g = worldGravity();
+  return in;
+}
+
 }  // namespace
 
 TEST(Slide, FromRestMatchesClosedFormOver2s) {
@@ -174,11 +184,7 @@ TEST(Slide, DegenerateGeometryIsDefined) {
 
 TEST(PlaneSlide, FromRestIsTheOneDimensionalSlide) {
   const double tilt = 30 * deg;
-  PlaneSlideInput in;
-  in.n = Eigen::Vector3d(std::sin(tilt), 0, std::cos(tilt));
-  in.e1 = Eigen::Vector3d(std::cos(tilt), 0, -std::sin(tilt));
-  in.e2 = in.n.cross(in.e1);
-  in.g = worldGravity();
+  const PlaneSlideInput in = slope(tilt);
   const Friction f{0.3, 0.2};
   PlaneSlideState s;
   for (int i = 0; i < 90; ++i) stepPlaneSlide(s, in, f, 1.0 / 90.0, Method::Exact);
@@ -191,11 +197,7 @@ TEST(PlaneSlide, FrictionOpposesTheVelocityNotTheSlope) {
   // Released with a sideways velocity on a slope: the path curves downhill. The paper's form
   // (friction along the slope) would keep the sideways speed forever.
   const double tilt = 30 * deg;
-  PlaneSlideInput in;
-  in.n = Eigen::Vector3d(std::sin(tilt), 0, std::cos(tilt));
-  in.e1 = Eigen::Vector3d(std::cos(tilt), 0, -std::sin(tilt));
-  in.e2 = in.n.cross(in.e1);
-  in.g = worldGravity();
+  const PlaneSlideInput in = slope(tilt);
   const Friction f{0.6, 0.5};
   PlaneSlideState fine{Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, 1.0), true};
   PlaneSlideState coarse = fine;
