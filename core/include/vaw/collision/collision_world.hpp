@@ -1,0 +1,214 @@
+#pragma once
+// Collision checks for the workbench (PHYSICS.md section 5, the paper's section 6), on FCL. FCL stays
+// inside the implementation: nothing here names an FCL type.
+//
+// A CollisionWorld is built once from an Assembly: one bounding-volume hierarchy per part mesh (meshes are
+// rigid), its surface patches, and a broad phase over all parts and environment objects. Per step only the
+// parts that moved get setPose(); static and placed parts cost nothing. Queries run for one object against
+// what its bounding box reaches. Objects are referred to by ObjectId (a part's PartId or an environment
+// object's index), never by pointer. Poses are part frame -> world, SI units.
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "vaw/assembly.hpp"
+#include "vaw/collision/surface_patches.hpp"
+#include "vaw/error.hpp"
+
+namespace vaw::collision {
+
+struct ObjectId {
+  enum class Kind : std::uint8_t { Part, Environment };
+  Kind kind = Kind::Part;
+  std::size_t index = 0;  // PartId, or index into Assembly::environment
+
+  static constexpr ObjectId part(PartId p) { return {Kind::Part, p}; }
+  static constexpr ObjectId environment(std::size_t i) { return {Kind::Environment, i}; }
+  friend constexpr bool operator==(const ObjectId&, const ObjectId&) = default;
+};
+
+// Filter modes of a mesh-mesh query (the paper's section 6).
+enum class FilterMode {
+  NoCare,        // every intersecting triangle pair
+  KeepCoplanar,  // only pairs that are parallel and within Tolerances::distance (a gap counts)
+  SkipCoplanar,  // every intersecting pair except parallel ones within Tolerances::distance
+  SkipCoaxial,   // every intersecting pair except those of two equal-diameter coaxial cylinders (and a
+                 // cylinder's end face against the other cylinder: a sleeve's end on its shaft)
+};
+std::string_view name(FilterMode m);
+
+struct Tolerances {
+  double distance = 1e-5;  // m: coplanar gap; touching; penetration below which a pair only touches
+  double angle = 1e-3;     // rad: parallel normals, parallel axes
+  double radius = 5e-5;    // m: two cylinders have equal diameters (SKIP_COAXIAL)
+};
+
+// What an object collides as (its "collision proxy"), chosen per object and shown in the scene tree.
+enum class ProxyKind { Mesh, SimplifiedMesh, Box, Sphere, Cylinder, None };
+std::string_view name(ProxyKind k);
+
+struct ObjectInfo {
+  ObjectId id;
+  std::string name;
+  ProxyKind proxy = ProxyKind::Mesh;
+  std::string proxyReason;          // why this proxy (shown with it)
+  std::size_t triangles = 0;        // of the collision geometry (0 for a primitive)
+  std::size_t displayTriangles = 0; // of the display mesh
+  double deviation = 0.0;           // m: measured largest distance between proxy and display mesh
+  double buildSeconds = 0.0;        // bounding-volume hierarchy and surface patches
+  std::size_t planarPatches = 0;
+  std::size_t cylindricalPatches = 0;
+};
+
+struct Contact {
+  ObjectId a, b;
+  int triangleA = -1, triangleB = -1;  // indices into each object's collision mesh; -1 for a primitive
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // world; FCL's, meaningless for exactly touching faces
+  double penetration = 0.0;  // m: how far the two triangles pass through each other's planes; <= 0 touching
+  double allowance = 0.0;    // m: penetration this pair may have and still only touch (distance + sagittas)
+  bool coplanar = false;     // parallel within the angle tolerance and within the distance tolerance
+  bool coaxial = false;      // both on cylinders of equal diameter on one axis (or one's end face on the other)
+};
+
+struct QueryOptions {
+  FilterMode mode = FilterMode::NoCare;
+  std::size_t maxContacts = 4096;
+  bool dropTouching = false;  // drop pairs whose penetration is within their allowance (resting faces)
+  bool stopAtFirst = false;   // a yes/no answer: stop at the first contact kept
+};
+
+struct QueryResult {
+  std::vector<Contact> contacts;
+  std::size_t intersecting = 0;  // triangle pairs found before filtering
+  std::size_t filtered = 0;      // removed by the filter mode or as touching only
+  bool truncated = false;        // maxContacts reached
+  std::size_t boundingVolumeTests = 0;  // node pairs tested in the hierarchies (the query's cost)
+  std::size_t leafTests = 0;            // triangle pairs reached
+};
+
+struct WorldOptions {
+  Tolerances tolerances;
+  PatchOptions patches;
+  // Environment objects made from a box, sphere or cylinder primitive collide as that exact shape
+  // (measured against their mesh); otherwise as their mesh.
+  bool environmentPrimitives = true;
+  // Optional simplified collision meshes, per object: queries use them, the display keeps the full mesh;
+  // their deviation from the full mesh is measured and reported.
+  std::vector<std::pair<ObjectId, std::shared_ptr<const TriMesh>>> simplified;
+};
+
+struct SupportCache;  // defined by the implementation: what the checks precompute for one support
+
+// How a part rests on the base, from one mate or insert constraint: the constraint surfaces matched once to
+// the patches of both meshes. `problem` says why touching cannot be decided (then it is always false).
+struct Support {
+  enum class Kind { Plane, Axis };
+  Kind kind = Kind::Plane;
+  PartId part = 0;
+  PartId base = 0;
+  Plane partPlane{}, basePlane{};  // Plane: in each one's own frame, normals out of each solid
+  double offset = 0.0;             // m, mate offset
+  Axis partAxis{}, baseAxis{};     // Axis: in each one's own frame
+  std::vector<int> partPatches;    // planar (Plane) or cylindrical (Axis) patch indices of the part
+  std::vector<int> basePatches;    // of the base
+  std::string problem;
+  // Precomputed once with the support (a few ms for a 250k-triangle base): which parts of the two
+  // hierarchies the blocked check can skip while the part rests on the surface (docs/collision.md).
+  std::shared_ptr<const SupportCache> cache;
+};
+
+struct TouchResult {
+  bool touching = false;
+  // Plane: signed distance (m) of the centre of mass's projection inside the support polygon (the convex
+  // hull of the faces' overlap), negative outside. Axis: length (m) of axial overlap of the part's bore and
+  // the base's cylinder (or shaft and bore), negative when apart. Touching iff margin >= -distance tol.
+  double margin = 0.0;
+  double separation = 0.0;   // m: plane gap (minus the mate offset) or distance between the axes
+  double supportArea = 0.0;  // m^2 (Plane)
+  std::vector<Eigen::Vector3d> supportPolygon;  // world (Plane)
+  Eigen::Vector3d comProjection = Eigen::Vector3d::Zero();  // world (Plane)
+  std::string reason;        // when not touching
+};
+
+struct BlockResult {
+  bool blocked = false;
+  std::vector<Contact> contacts;  // the blocking pairs found (penetration beyond their allowance)
+  std::optional<ObjectId> by;     // the first blocking object
+  std::size_t boundingVolumeTests = 0;  // cost, summed over the objects tested
+  std::size_t leafTests = 0;
+};
+
+class CollisionWorld {
+ public:
+  explicit CollisionWorld(const Assembly& assembly, const WorldOptions& options = {});
+  ~CollisionWorld();
+  CollisionWorld(CollisionWorld&&) noexcept;
+  CollisionWorld& operator=(CollisionWorld&&) noexcept;
+  CollisionWorld(const CollisionWorld&) = delete;
+  CollisionWorld& operator=(const CollisionWorld&) = delete;
+
+  [[nodiscard]] std::size_t partCount() const;
+  [[nodiscard]] std::size_t environmentCount() const;
+  [[nodiscard]] std::optional<PartId> base() const;
+  [[nodiscard]] const Tolerances& tolerances() const;
+  // Warnings and errors found while building (bad meshes, rejected proxies), each naming the object.
+  [[nodiscard]] const Diagnostics& diagnostics() const;
+  [[nodiscard]] const ObjectInfo& info(ObjectId id) const;
+  // Null for primitive proxies and objects without collision geometry.
+  [[nodiscard]] const SurfacePatches* patches(ObjectId id) const;
+  [[nodiscard]] const TriMesh* collisionMesh(ObjectId id) const;
+  [[nodiscard]] std::vector<ObjectId> objects() const;
+
+  // Moves one object; the broad phase is updated for it alone.
+  void setPose(ObjectId id, const Eigen::Isometry3d& pose);
+  [[nodiscard]] const Eigen::Isometry3d& pose(ObjectId id) const;
+  // World box around the object's local bounding box at its pose (or at `pose`); empty without geometry.
+  [[nodiscard]] Eigen::AlignedBox3d worldBounds(ObjectId id) const;
+  [[nodiscard]] Eigen::AlignedBox3d worldBounds(ObjectId id, const Eigen::Isometry3d& pose) const;
+  // Largest distance of the object's collision geometry from a point / line in its own frame (m): the
+  // speed bound of a rotation about that point or axis, per rad/s.
+  [[nodiscard]] double maxRadius(ObjectId id, const Eigen::Vector3d& point) const;
+  [[nodiscard]] double maxRadius(ObjectId id, const Axis& axis) const;
+
+  // Objects whose bounding boxes overlap `box` (world), excluding `except` (broad phase).
+  [[nodiscard]] std::vector<ObjectId> near(const Eigen::AlignedBox3d& box, std::optional<ObjectId> except = {}) const;
+
+  // Triangle pairs between a and b under a filter mode; `poseA` overrides a's pose (b keeps its own).
+  [[nodiscard]] QueryResult query(ObjectId a, ObjectId b, const QueryOptions& options = {}) const;
+  [[nodiscard]] QueryResult query(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, const QueryOptions& options = {}) const;
+  // a against everything its bounding box reaches.
+  [[nodiscard]] QueryResult queryAll(ObjectId a, const QueryOptions& options = {}) const;
+
+  // Smallest distance between a (at poseA) and b; 0 when they intersect.
+  [[nodiscard]] double distance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b) const;
+  [[nodiscard]] double distance(ObjectId a, ObjectId b) const;
+
+  // The support of a part on the base from a mate or insert constraint (patches matched once).
+  [[nodiscard]] Support support(const Constraint& constraint) const;
+  // Does the part still rest on (plane) or surround / sit in (axis) the constraint surface?
+  [[nodiscard]] TouchResult touching(const Support& s) const;
+  [[nodiscard]] TouchResult touching(const Support& s, const Eigen::Isometry3d& partPose) const;
+  // Does any geometry other than the surface it moves on stop it: the base under SKIP_COPLANAR (plane,
+  // tested with the part lifted by half the distance tolerance off the face it rests on, so the resting
+  // faces are not even visited) or SKIP_COAXIAL (axis), everything else under NOCARE; pairs that only
+  // touch (penetration within their allowance) never block.
+  [[nodiscard]] BlockResult blocked(const Support& s, std::size_t maxContacts = 8) const;
+  [[nodiscard]] BlockResult blocked(const Support& s, const Eigen::Isometry3d& partPose, std::size_t maxContacts = 8) const;
+  // Anything at all in the way of an object at a pose (free flight): NOCARE against every reachable object;
+  // touching-only pairs are ignored unless `countTouching`.
+  [[nodiscard]] BlockResult colliding(ObjectId id, const Eigen::Isometry3d& pose, bool countTouching = false) const;
+
+  // Centre of mass of a part, part frame (from the assembly).
+  [[nodiscard]] Eigen::Vector3d centreOfMass(PartId p) const;
+
+ private:
+  void prepare(Support& s) const;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vaw::collision

@@ -1,0 +1,174 @@
+#include "vaw/collision/time_of_impact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace vaw::collision {
+
+Motion translation(const Eigen::Isometry3d& start, const Eigen::Vector3d& direction, double length) {
+  const Eigen::Vector3d u = direction.normalized();
+  Motion m;
+  m.pose = [start, u](double s) {
+    Eigen::Isometry3d p = start;
+    p.pretranslate(s * u);
+    return p;
+  };
+  m.s0 = 0.0;
+  m.s1 = length;
+  m.speedBound = 1.0;
+  return m;
+}
+
+Motion axisSlide(const Eigen::Isometry3d& start, const Eigen::Vector3d& u, double v0, double a, double h) {
+  const Eigen::Vector3d dir = u.normalized();
+  Motion m;
+  m.pose = [start, dir, v0, a](double t) {
+    Eigen::Isometry3d p = start;
+    p.pretranslate((v0 * t + 0.5 * a * t * t) * dir);
+    return p;
+  };
+  m.s1 = h;
+  m.speedBound = std::max(std::abs(v0), std::abs(v0 + a * h));  // |v| is linear in t: largest at an end
+  return m;
+}
+
+Motion planeSlide(const Eigen::Isometry3d& start, const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                  const Eigen::Vector2d& v0, const Eigen::Vector2d& a, double h) {
+  Motion m;
+  m.pose = [start, e1, e2, v0, a](double t) {
+    const Eigen::Vector2d d = v0 * t + 0.5 * a * t * t;
+    Eigen::Isometry3d p = start;
+    p.pretranslate(d.x() * e1 + d.y() * e2);
+    return p;
+  };
+  m.s1 = h;
+  m.speedBound = std::max(v0.norm(), (v0 + a * h).norm());  // |v(t)| is convex in t
+  return m;
+}
+
+Motion hingeRotation(const dyn::Hinge& hinge, const Eigen::Isometry3d& baseToWorld, double angle0, double angle1,
+                     double radius) {
+  const double sign = angle1 >= angle0 ? 1.0 : -1.0;
+  Motion m;
+  m.pose = [hinge, baseToWorld, angle0, sign](double s) { return Eigen::Isometry3d(baseToWorld * hinge.partInBase(angle0 + sign * s)); };
+  m.s1 = std::abs(angle1 - angle0);
+  m.speedBound = radius;  // m per rad
+  return m;
+}
+
+Motion ballistic(const dyn::Release& release, const Eigen::Vector3d& gScaled, const Eigen::Vector3d& com, double t0,
+                 double t1, double radius) {
+  Motion m;
+  m.pose = [release, gScaled, com](double t) {
+    Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+    p.linear() = dyn::constantOmegaOrientation(release, t).toRotationMatrix();
+    p.translation() = dyn::ballisticPosition(release, gScaled, t) - p.linear() * com;
+    return p;
+  };
+  m.s0 = t0;
+  m.s1 = t1;
+  m.speedBound = std::max(dyn::ballisticVelocity(release, gScaled, t0).norm(), dyn::ballisticVelocity(release, gScaled, t1).norm()) +
+                 release.omega.norm() * radius;
+  return m;
+}
+
+MotionEvent timeOfImpact(const CollisionWorld& world, ObjectId mover, const Motion& motion, const ToiOptions& options) {
+  MotionEvent ev;
+  ev.s = ev.sEvent = motion.s1;
+  const double tol = options.tolerance;
+  const double L = motion.speedBound;
+  const double span = std::max(0.0, motion.s1 - motion.s0);
+  // Everything the part can reach during the motion (broad phase, once).
+  Eigen::AlignedBox3d reach = world.worldBounds(mover, motion.pose(motion.s0));
+  if (reach.isEmpty()) return ev;
+  reach.min().array() -= L * span + tol;
+  reach.max().array() += L * span + tol;
+  const std::vector<ObjectId> candidates = world.near(reach, mover);
+  double s = motion.s0;
+  for (int it = 0; it < options.maxIterations; ++it) {
+    const Eigen::Isometry3d pose = motion.pose(s);
+    double d = std::numeric_limits<double>::infinity();
+    std::optional<ObjectId> nearest;
+    for (const ObjectId& c : candidates) {
+      const double dc = world.distance(mover, pose, c);
+      ++ev.evaluations;
+      if (dc < d) {
+        d = dc;
+        nearest = c;
+      }
+    }
+    if (d <= tol) {
+      ev.kind = EventKind::Contact;
+      ev.s = ev.sEvent = s;
+      ev.other = nearest;
+      ev.distance = d;
+      ev.initiallyBlocked = s == motion.s0;
+      return ev;
+    }
+    if (s >= motion.s1 || L <= 0.0) break;
+    // No point moves faster than L, so nothing can be hit before the gap minus half the tolerance is closed.
+    s = std::min(motion.s1, s + (d - 0.5 * tol) / L);
+  }
+  ev.s = ev.sEvent = motion.s1;
+  return ev;
+}
+
+MotionEvent firstEventOnBase(const CollisionWorld& world, const Support& support, const Motion& motion,
+                             const ToiOptions& options) {
+  MotionEvent ev;
+  ev.s = ev.sEvent = motion.s1;
+  const double L = motion.speedBound;
+  const double span = std::max(0.0, motion.s1 - motion.s0);
+  auto isBlocked = [&](double s) {
+    ++ev.evaluations;
+    return world.blocked(support, motion.pose(s), 1).blocked;
+  };
+  auto isLost = [&](double s) {
+    ++ev.evaluations;
+    return !world.touching(support, motion.pose(s)).touching;
+  };
+  auto finish = [&](EventKind kind, double lo, double hi) {
+    ev.kind = kind;
+    ev.s = lo;
+    ev.sEvent = hi;
+    if (kind == EventKind::Blocked) {
+      const BlockResult b = world.blocked(support, motion.pose(hi), 8);
+      ev.contacts = b.contacts;
+      ev.other = b.by;
+    }
+    ev.touch = world.touching(support, motion.pose(hi));
+    return ev;
+  };
+  const bool blocked0 = isBlocked(motion.s0), lost0 = isLost(motion.s0);
+  if (blocked0 || lost0) {
+    ev.initiallyBlocked = true;
+    return finish(blocked0 ? EventKind::Blocked : EventKind::LostTouch, motion.s0, motion.s0);
+  }
+  if (span <= 0.0 || L <= 0.0) return ev;
+  // Samples no farther apart than maxStep of motion of any point, then bisection to the tolerance.
+  const int n = std::max(1, static_cast<int>(std::ceil(L * span / options.maxStep)));
+  auto bisect = [&](const auto& pred, double lo, double hi) {
+    for (int it = 0; it < options.maxIterations && (hi - lo) * L > options.tolerance; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (pred(mid) ? hi : lo) = mid;
+    }
+    return std::pair{lo, hi};
+  };
+  double prev = motion.s0;
+  for (int k = 1; k <= n; ++k) {
+    const double s = k == n ? motion.s1 : motion.s0 + span * static_cast<double>(k) / static_cast<double>(n);
+    const bool b = isBlocked(s), l = isLost(s);
+    if (b || l) {
+      std::pair<double, double> pb{s, s}, pl{s, s};
+      if (b) pb = bisect(isBlocked, prev, s);
+      if (l) pl = bisect(isLost, prev, s);
+      if (b && (!l || pb.second <= pl.second)) return finish(EventKind::Blocked, pb.first, pb.second);
+      return finish(EventKind::LostTouch, pl.first, pl.second);
+    }
+    prev = s;
+  }
+  return ev;
+}
+
+}  // namespace vaw::collision

@@ -1,0 +1,122 @@
+// Collision proxies per object (exact primitives for environment objects, optional simplified meshes),
+// reported with their measured deviation; the broad phase.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "collision_test_support.hpp"
+#include "vaw/primitives.hpp"
+
+using namespace vaw;
+using namespace vaw::collision;
+using ctest::at;
+
+TEST(Proxies, BundledTableIsAnExactBox) {
+  const Assembly a = ctest::loadBundled("sleeve-on-shaft.vaw.json");
+  const CollisionWorld w(a);
+  const ObjectInfo& table = w.info(ObjectId::environment(0));
+  EXPECT_EQ(table.proxy, ProxyKind::Box);
+  EXPECT_EQ(table.triangles, 0u);
+  EXPECT_EQ(table.displayTriangles, 12u);
+  EXPECT_LE(table.deviation, 1e-15);
+  EXPECT_NE(table.proxyReason.find("box"), std::string::npos);
+  const ObjectInfo& sleeve = w.info(ObjectId::part(*a.findPart("sleeve")));
+  EXPECT_EQ(sleeve.proxy, ProxyKind::Mesh);
+  EXPECT_EQ(sleeve.triangles, sleeve.displayTriangles);
+  EXPECT_EQ(sleeve.cylindricalPatches, 2u);
+  EXPECT_GT(sleeve.buildSeconds, 0.0);
+  EXPECT_TRUE(w.diagnostics().empty()) << w.diagnostics().front().message();
+}
+
+TEST(Proxies, SphereAndCylinderPrimitivesReportTheirTessellationError) {
+  ctest::SceneBuilder b;
+  b.environment("ball", primitives::sphere(0.1, 32, 16), at(0, 0, 1), "primitive sphere");
+  b.environment("post", primitives::cylinder(0.05, 0.5, 32), at(1, 0, 0), "primitive cylinder");
+  b.environment("pair", primitives::box({1, 1, 1}), at(3, 0, 0), "compound of 2 primitives");
+  const CollisionWorld w(b.a);
+  const ObjectInfo& ball = w.info(ObjectId::environment(0));
+  EXPECT_EQ(ball.proxy, ProxyKind::Sphere);
+  EXPECT_GT(ball.deviation, 1e-4) << "facets lie inside the true sphere";
+  EXPECT_LT(ball.deviation, 0.1 * (1.0 - std::cos(std::numbers::pi / 16.0)) * 1.01);
+  const ObjectInfo& post = w.info(ObjectId::environment(1));
+  EXPECT_EQ(post.proxy, ProxyKind::Cylinder);
+  // Largest deviation: the side facets' centroids, at r cos(pi / 32) from the axis.
+  EXPECT_NEAR(post.deviation, 0.05 * (1.0 - std::cos(std::numbers::pi / 32.0)), 1e-6);
+  EXPECT_EQ(w.info(ObjectId::environment(2)).proxy, ProxyKind::Mesh) << "compounds keep their mesh";
+  // The exact sphere: a point 0.1 m from its centre plus 1 mm is 1 mm away.
+  ctest::SceneBuilder c = b;
+  c.part("probe", primitives::box({0.002, 0.002, 0.002}), at(0, 0, 1.0 + 0.1 + 0.001 + 0.001));
+  const CollisionWorld w2(c.a);
+  EXPECT_NEAR(w2.distance(ObjectId::part(0), ObjectId::environment(0)), 0.001, 1e-6);
+}
+
+TEST(Proxies, PrimitiveThatDoesNotFitItsMeshIsRejected) {
+  ctest::SceneBuilder b;
+  b.environment("odd", primitives::sphere(0.1, 16, 8), at(0, 0, 0), "primitive box");
+  const CollisionWorld w(b.a);
+  EXPECT_EQ(w.info(ObjectId::environment(0)).proxy, ProxyKind::Mesh);
+  ASSERT_FALSE(w.diagnostics().empty());
+  EXPECT_EQ(w.diagnostics().front().field, "collision.proxy-rejected");
+}
+
+TEST(Proxies, PrimitivesCanBeTurnedOff) {
+  const Assembly a = ctest::loadBundled("sleeve-on-shaft.vaw.json");
+  WorldOptions o;
+  o.environmentPrimitives = false;
+  const CollisionWorld w(a, o);
+  EXPECT_EQ(w.info(ObjectId::environment(0)).proxy, ProxyKind::Mesh);
+  EXPECT_EQ(w.info(ObjectId::environment(0)).triangles, 12u);
+}
+
+TEST(Proxies, SimplifiedMeshIsUsedAndItsDeviationMeasured) {
+  const double r = 0.02;
+  ctest::SceneBuilder b;
+  b.part("fine", primitives::cylinder(r, 0.05, 256), at(0, 0, 0));
+  b.part("other", primitives::box({0.01, 0.01, 0.01}), at(0.1, 0, 0));
+  WorldOptions o;
+  o.simplified.emplace_back(ObjectId::part(0), std::make_shared<const TriMesh>(primitives::cylinder(r, 0.05, 32)));
+  const CollisionWorld w(b.a, o);
+  const ObjectInfo& fine = w.info(ObjectId::part(0));
+  EXPECT_EQ(fine.proxy, ProxyKind::SimplifiedMesh);
+  EXPECT_EQ(fine.triangles, 4u * 32u);
+  EXPECT_EQ(fine.displayTriangles, 4u * 256u);
+  // The 256-gon's vertices midway between the 32-gon's lie r (1 - cos(pi / 32)) outside its facets.
+  const double sag = r * (1.0 - std::cos(std::numbers::pi / 32.0));
+  EXPECT_NEAR(fine.deviation, sag, 0.02 * sag);
+  EXPECT_NE(fine.proxyReason.find("simplified"), std::string::npos);
+  EXPECT_EQ(w.collisionMesh(ObjectId::part(0))->triangleCount(), 4u * 32u);
+}
+
+TEST(Proxies, BroadPhaseFindsOnlyWhatABoxReachesAndFollowsMovedParts) {
+  ctest::SceneBuilder b;
+  for (int i = 0; i < 20; ++i) b.part("p" + std::to_string(i), primitives::box({0.01, 0.01, 0.01}), at(0.1 * i, 0, 0));
+  CollisionWorld w(b.a);
+  Eigen::AlignedBox3d probe(Eigen::Vector3d(0.495, -0.01, -0.01), Eigen::Vector3d(0.505, 0.01, 0.01));
+  auto found = w.near(probe);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0], ObjectId::part(5));
+  EXPECT_TRUE(w.near(probe, ObjectId::part(5)).empty());
+  w.setPose(ObjectId::part(5), at(5.0, 0, 0));
+  EXPECT_TRUE(w.near(probe).empty());
+  w.setPose(ObjectId::part(7), at(0.5, 0, 0.005));
+  found = w.near(probe);
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0], ObjectId::part(7));
+  EXPECT_NEAR(w.worldBounds(ObjectId::part(7)).min().z(), 0.0, 1e-15);
+}
+
+TEST(Proxies, PartsWithTheSameMeshShareOneHierarchy) {
+  ctest::SceneBuilder b;
+  for (int i = 0; i < 3; ++i) b.part("bolt" + std::to_string(i), primitives::cylinder(0.006, 0.04, 32), at(0.05 * i, 0, 0));
+  b.part("other", primitives::cylinder(0.006, 0.041, 32), at(0.2, 0, 0));
+  const CollisionWorld w(b.a);
+  EXPECT_EQ(w.info(ObjectId::part(0)).proxyReason, "full mesh");
+  EXPECT_NE(w.info(ObjectId::part(1)).proxyReason.find("shared with part \"bolt0\""), std::string::npos);
+  EXPECT_NE(w.info(ObjectId::part(2)).proxyReason.find("shared"), std::string::npos);
+  EXPECT_EQ(w.info(ObjectId::part(3)).proxyReason, "full mesh") << "a different mesh is built on its own";
+  EXPECT_EQ(w.patches(ObjectId::part(1)), w.patches(ObjectId::part(0)));
+  EXPECT_EQ(w.info(ObjectId::part(2)).cylindricalPatches, 1u);
+  // Each copy still collides at its own pose.
+  EXPECT_NEAR(w.distance(ObjectId::part(1), ObjectId::part(2)), 0.05 - 0.012, 1e-9);
+}
