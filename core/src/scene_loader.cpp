@@ -167,7 +167,7 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
 }
 
 struct Imported {
-  TriMesh mesh;  // merged, SI, welded, checked
+  std::shared_ptr<const TriMesh> mesh;  // merged, SI, welded, checked; shared by every part using the file
   ImportedNode root;
   std::vector<std::string> warnings;
 };
@@ -194,9 +194,10 @@ class MeshCache {
     Imported out;
     out.root = std::move(im.root);
     out.warnings = std::move(im.warnings);
-    out.mesh = out.root.merged();
-    out.mesh.scale(L);
-    validateSolid(out.mesh, file.string(), warnings_);
+    TriMesh mesh = out.root.merged();
+    mesh.scale(L);
+    validateSolid(mesh, file.string(), warnings_);
+    out.mesh = std::make_shared<const TriMesh>(std::move(mesh));
     return cache_.emplace(key, std::move(out)).first->second;
   }
 
@@ -376,7 +377,7 @@ class SceneReader {
       const std::filesystem::path file = dir_ / m.string();
       const Imported& im = meshes_.get(file, units_.L, m, progress);
       for (const auto& w : im.warnings) assembly_.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
-      s.mesh = std::make_shared<const TriMesh>(im.mesh);
+      s.mesh = im.mesh;
       s.source = m.string();
       // A file whose geometry sits in one node has no hierarchy worth showing.
       if (nodesWithGeometry(im.root) > 1) s.meshTree = meshTree(im.root);
