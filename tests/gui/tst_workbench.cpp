@@ -247,6 +247,14 @@ void TestWorkbench::sceneTreeListsParts() {
     QCOMPARE(found.size(), 1);
     QVERIFY(!model->partAt(found.first()));
   }
+  // The collision proxy of each object is shown: the sleeve collides as its mesh, the table (a box
+  // primitive) as an exact box.
+  const auto collisionOf = [&](const QString& name) {
+    const auto found = model->match(root, Qt::DisplayRole, name, 1, Qt::MatchExactly | Qt::MatchRecursive);
+    return found.isEmpty() ? QString() : found.first().siblingAtColumn(vaw::ui::SceneTreeModel::CollisionColumn).data().toString();
+  };
+  QVERIFY2(collisionOf(QStringLiteral("sleeve")).startsWith(QStringLiteral("mesh, 512 tri")), qPrintable(collisionOf(QStringLiteral("sleeve"))));
+  QVERIFY2(collisionOf(QStringLiteral("table")).startsWith(QStringLiteral("box")), qPrintable(collisionOf(QStringLiteral("table"))));
 }
 
 void TestWorkbench::viewportRendersAssembly() {
@@ -354,6 +362,8 @@ void TestWorkbench::treeSelectionSelectsInViewport() {
   QCOMPARE(window_->partDock()->model()->value(QStringLiteral("Name")), QStringLiteral("sleeve"));
   QVERIFY(!window_->partDock()->model()->value(QStringLiteral("Mass")).isEmpty());
   QVERIFY(!window_->partDock()->model()->value(QStringLiteral("Category")).isEmpty());
+  QVERIFY2(window_->partDock()->model()->value(QStringLiteral("Collision")).startsWith(QStringLiteral("mesh")),
+           qPrintable(window_->partDock()->model()->value(QStringLiteral("Collision"))));
 
   // ...and the viewport highlights it.
   const QImage after = capture();

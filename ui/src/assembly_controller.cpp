@@ -135,6 +135,12 @@ AssemblyController::Outcome AssemblyController::runLoad(const QString& path, con
   };
   try {
     out.assembly = std::make_shared<vaw::Assembly>(loader(toPath(path), registry_, options, progressFn));
+    // The collision geometry (hierarchies, surface patches, proxies) is built once per load; its
+    // problems join the load's warnings.
+    progressFn(1.0, "collision geometry");
+    const vaw::collision::CollisionWorld world(*out.assembly);
+    for (const auto& id : world.objects()) out.collision.push_back(world.info(id));
+    for (const auto& d : world.diagnostics()) out.assembly->warnings.push_back(d);
   } catch (const vaw::LoadCancelled&) {
     out.cancelled = true;
   } catch (const vaw::InputError& e) {
@@ -170,6 +176,7 @@ void AssemblyController::finished() {
   loadingPath_.clear();
   if (out.assembly) {
     assembly_ = std::make_unique<vaw::Assembly>(std::move(*out.assembly));
+    collisionInfo_ = std::move(out.collision);
     currentPath_ = QFileInfo(path).absoluteFilePath();
     emit assemblyLoaded();
   } else if (out.failure) {

@@ -24,9 +24,12 @@ SceneDock::SceneDock(QWidget* parent) : QDockWidget(tr("Scene"), parent) {
   view_->setUniformRowHeights(true);
   view_->setAlternatingRowColors(true);
   view_->header()->setStretchLastSection(false);
-  view_->header()->setSectionResizeMode(SceneTreeModel::NameColumn, QHeaderView::Stretch);
+  // Names first: they size to their contents; the collision proxy takes what is left (full text in
+  // its tooltip).
+  view_->header()->setSectionResizeMode(SceneTreeModel::NameColumn, QHeaderView::ResizeToContents);
   view_->header()->setSectionResizeMode(SceneTreeModel::CategoryColumn, QHeaderView::ResizeToContents);
   view_->header()->setSectionResizeMode(SceneTreeModel::MassColumn, QHeaderView::ResizeToContents);
+  view_->header()->setSectionResizeMode(SceneTreeModel::CollisionColumn, QHeaderView::Stretch);
   setWidget(view_);
   connect(view_->selectionModel(), &QItemSelectionModel::currentRowChanged, this,
           [this](const QModelIndex& current) {
@@ -34,9 +37,9 @@ SceneDock::SceneDock(QWidget* parent) : QDockWidget(tr("Scene"), parent) {
           });
 }
 
-void SceneDock::setAssembly(const vaw::Assembly* assembly) {
+void SceneDock::setAssembly(const vaw::Assembly* assembly, const std::vector<vaw::collision::ObjectInfo>& collision) {
   updating_ = true;
-  model_->setAssembly(assembly);
+  model_->setAssembly(assembly, collision);
   view_->expandToDepth(1);
   updating_ = false;
 }
@@ -81,8 +84,12 @@ PartDock::PartDock(QWidget* parent) : QDockWidget(tr("Part"), parent) {
   setWidget(stack);
 }
 
-void PartDock::showPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part) {
-  model_->setPart(assembly, part);
+void PartDock::showPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part,
+                        const std::vector<vaw::collision::ObjectInfo>& collision) {
+  const vaw::collision::ObjectInfo* info = nullptr;
+  for (const auto& c : collision)
+    if (part && c.id == vaw::collision::ObjectId::part(*part)) info = &c;
+  model_->setPart(assembly, part, info);
   auto* stack = static_cast<QStackedWidget*>(widget());
   stack->setCurrentWidget(model_->rowCount() > 0 ? static_cast<QWidget*>(view_) : placeholder_);
   view_->resizeRowsToContents();

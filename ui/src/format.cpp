@@ -35,4 +35,13 @@ QString volume(double cubicMetres) { return QStringLiteral("%1 cm³").arg(number
 
 QString percent(double fraction) { return QStringLiteral("%1 %").arg(number(fraction * 100.0, 3)); }
 
+QString collision(const vaw::collision::ObjectInfo& info) {
+  using K = vaw::collision::ProxyKind;
+  QString text = str(std::string(vaw::collision::name(info.proxy)));
+  if (info.proxy == K::Mesh || info.proxy == K::SimplifiedMesh) text += QStringLiteral(", %1 tri").arg(info.triangles);
+  if (info.proxy != K::Mesh && info.proxy != K::None && info.deviation > 0.0)
+    text += QStringLiteral(", %1 mm off").arg(info.deviation * 1000.0, 0, 'g', 2);
+  return text;
+}
+
 }  // namespace vaw::ui::format

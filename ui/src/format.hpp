@@ -4,6 +4,8 @@
 #include <QString>
 #include <string>
 
+#include "vaw/collision/collision_world.hpp"
+
 namespace vaw::ui::format {
 
 inline QString str(const std::string& s) { return QString::fromStdString(s); }
@@ -14,5 +16,8 @@ QString lengthMm(double metres);     // "12.5 mm"
 QString vectorMm(const Eigen::Vector3d& metres);  // "(1, 2, 3) mm"
 QString volume(double cubicMetres);  // "123.4 cm³"
 QString percent(double fraction);    // "1.23 %"
+
+// How an object collides, e.g. "mesh, 512 tri", "box", "simplified, 1.2k tri, 0.3 mm off".
+QString collision(const vaw::collision::ObjectInfo& info);
 
 }  // namespace vaw::ui::format

@@ -96,7 +96,7 @@ void MainWindow::assemblyLoaded() {
   const std::string keepName = selectedName_;
   const QString keepFrom = selectedFrom_;
   viewport_->setAssembly(assembly);
-  sceneDock_->setAssembly(assembly);
+  sceneDock_->setAssembly(assembly, controller_.collisionInfo());
   partDock_->showPart(assembly, std::nullopt);
   reloadAction_->setEnabled(true);
   if (assembly == nullptr) return;
@@ -118,7 +118,7 @@ void MainWindow::assemblyLoaded() {
 
 void MainWindow::showSelection(std::optional<vaw::PartId> part) {
   const vaw::Assembly* assembly = controller_.assembly();
-  partDock_->showPart(assembly, part);
+  partDock_->showPart(assembly, part, controller_.collisionInfo());
   if (assembly != nullptr && part && *part < assembly->parts.size()) {
     selectedName_ = assembly->parts[*part].name;
     selectedFrom_ = controller_.currentPath();

@@ -19,7 +19,8 @@ QString moments(const Eigen::Vector3d& m) {
 
 PartPropertiesModel::PartPropertiesModel(QObject* parent) : QAbstractTableModel(parent) {}
 
-void PartPropertiesModel::setPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part) {
+void PartPropertiesModel::setPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part,
+                                  const vaw::collision::ObjectInfo* collision) {
   beginResetModel();
   rows_.clear();
   part_.reset();
@@ -61,6 +62,7 @@ void PartPropertiesModel::setPart(const vaw::Assembly* assembly, std::optional<v
     }
     add(tr("Triangles"), p.mesh ? QString::number(p.mesh->triangleCount()) : tr("none"));
     add(tr("Shape"), format::str(p.shapeSource));
+    if (collision != nullptr) add(tr("Collision"), format::collision(*collision), format::str(collision->proxyReason));
     add(tr("Material"), format::str(p.material));
     add(tr("Position"), format::vectorMm(p.pose.translation()), tr("part frame origin in the world"));
     if (!p.propertyFile.empty()) add(tr("Property file"), format::str(p.propertyFile.string()));

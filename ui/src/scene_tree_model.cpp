@@ -24,9 +24,10 @@ QString kindName(vaw::TreeNode::Kind kind) {
 
 SceneTreeModel::SceneTreeModel(QObject* parent) : QAbstractItemModel(parent) {}
 
-void SceneTreeModel::setAssembly(const vaw::Assembly* assembly) {
+void SceneTreeModel::setAssembly(const vaw::Assembly* assembly, const std::vector<vaw::collision::ObjectInfo>& collision) {
   beginResetModel();
   items_.clear();
+  collision_ = collision;
   if (assembly != nullptr) {
     vaw::TreeNode root = assembly->tree;
     if (root.name.empty()) root.name = assembly->name;
@@ -54,12 +55,14 @@ int SceneTreeModel::add(const vaw::Assembly& assembly, const vaw::TreeNode& node
         item.toolTip = tr("part \"%1\": %2, %3\n%4")
                            .arg(item.name, item.category, item.mass, format::str(part.category.reason));
         if (assembly.base && *assembly.base == part.id) item.category += tr(" (base)");
+        describeCollision(item, vaw::collision::ObjectId::part(part.id));
       }
       owningPart = item.part;
       break;
     case Kind::Environment:
       if (node.index < assembly.environment.size()) {
         item.category = format::str(assembly.environment[node.index].kind);
+        describeCollision(item, vaw::collision::ObjectId::environment(node.index));
       }
       break;
     case Kind::MeshNode:
@@ -78,6 +81,17 @@ int SceneTreeModel::add(const vaw::Assembly& assembly, const vaw::TreeNode& node
   for (const auto& child : node.children) children.push_back(add(assembly, child, self, childRow++, owningPart));
   items_[static_cast<std::size_t>(self)].children = std::move(children);
   return self;
+}
+
+// Model no more than the scene needs, and show it.
+void SceneTreeModel::describeCollision(Item& item, vaw::collision::ObjectId id) const {
+  for (const auto& info : collision_) {
+    if (!(info.id == id)) continue;
+    const QString text = format::collision(info);
+    item.collision = text;
+    item.collisionToolTip = tr("collides as: %1\n%2").arg(text, format::str(info.proxyReason));
+    return;
+  }
 }
 
 const SceneTreeModel::Item* SceneTreeModel::itemAt(const QModelIndex& index) const {
@@ -141,9 +155,10 @@ QVariant SceneTreeModel::data(const QModelIndex& index, int role) const {
         case NameColumn: return item->name;
         case CategoryColumn: return item->category;
         case MassColumn: return item->mass;
+        case CollisionColumn: return item->collision;
         default: return {};
       }
-    case Qt::ToolTipRole: return item->toolTip;
+    case Qt::ToolTipRole: return index.column() == CollisionColumn && !item->collisionToolTip.isEmpty() ? item->collisionToolTip : item->toolTip;
     case Qt::DecorationRole: {
       if (index.column() != NameColumn) return {};
       const QStyle* style = QApplication::style();
@@ -173,6 +188,7 @@ QVariant SceneTreeModel::headerData(int section, Qt::Orientation orientation, in
     case NameColumn: return tr("Name");
     case CategoryColumn: return tr("Category");
     case MassColumn: return tr("Mass");
+    case CollisionColumn: return tr("Collision");
     default: return {};
   }
 }

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "vaw/assembly.hpp"
+#include "vaw/collision/collision_world.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/scene_loader.hpp"
 
@@ -50,6 +51,8 @@ class AssemblyController : public QObject {
   // The current assembly, or null before the first successful load. Valid until the next
   // assemblyLoaded() signal.
   [[nodiscard]] const vaw::Assembly* assembly() const { return assembly_.get(); }
+  // How each part and environment object collides (its proxy), measured when the assembly loaded.
+  [[nodiscard]] const std::vector<vaw::collision::ObjectInfo>& collisionInfo() const { return collisionInfo_; }
   // The file of the current assembly (what File > Reload reads).
   [[nodiscard]] QString currentPath() const { return currentPath_; }
   [[nodiscard]] bool isLoading() const { return watcher_.isRunning(); }
@@ -81,6 +84,7 @@ class AssemblyController : public QObject {
  private:
   struct Outcome {
     std::shared_ptr<vaw::Assembly> assembly;
+    std::vector<vaw::collision::ObjectInfo> collision;
     std::optional<LoadFailure> failure;
     bool cancelled = false;
   };
@@ -94,6 +98,7 @@ class AssemblyController : public QObject {
   vaw::LoadOptions options_;
   Loader loader_;
   std::unique_ptr<vaw::Assembly> assembly_;
+  std::vector<vaw::collision::ObjectInfo> collisionInfo_;
   QString currentPath_;
   QString loadingPath_;
   std::optional<QString> pendingPath_;

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "vaw/assembly.hpp"
+#include "vaw/collision/collision_world.hpp"
 
 class QTreeView;
 class QTableView;
@@ -20,7 +21,7 @@ class SceneDock : public QDockWidget {
   Q_OBJECT
  public:
   explicit SceneDock(QWidget* parent = nullptr);
-  void setAssembly(const vaw::Assembly* assembly);
+  void setAssembly(const vaw::Assembly* assembly, const std::vector<vaw::collision::ObjectInfo>& collision = {});
   [[nodiscard]] SceneTreeModel* model() const { return model_; }
   [[nodiscard]] QTreeView* view() const { return view_; }
   // The part the current tree item stands for.
@@ -48,7 +49,8 @@ class PartDock : public QDockWidget {
   [[nodiscard]] QTableView* view() const { return view_; }
 
  public slots:
-  void showPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part);
+  void showPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part,
+                const std::vector<vaw::collision::ObjectInfo>& collision = {});
 
  private:
   PartPropertiesModel* model_ = nullptr;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "vaw/assembly.hpp"
+#include "vaw/collision/collision_world.hpp"
 
 namespace vaw::ui {
 
@@ -18,8 +19,9 @@ class PartPropertiesModel : public QAbstractTableModel {
 
   explicit PartPropertiesModel(QObject* parent = nullptr);
 
-  // Shows `part` of `assembly`; nothing when either is missing.
-  void setPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part);
+  // Shows `part` of `assembly`; nothing when either is missing. `collision`: how the part collides.
+  void setPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part,
+               const vaw::collision::ObjectInfo* collision = nullptr);
   [[nodiscard]] std::optional<vaw::PartId> part() const { return part_; }
   // The value shown for a property (by its label), empty if absent. For tests and tools.
   [[nodiscard]] QString value(const QString& property) const;

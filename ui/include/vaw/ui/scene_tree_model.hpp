@@ -7,13 +7,14 @@
 #include <vector>
 
 #include "vaw/assembly.hpp"
+#include "vaw/collision/collision_world.hpp"
 
 namespace vaw::ui {
 
 class SceneTreeModel : public QAbstractItemModel {
   Q_OBJECT
  public:
-  enum Column { NameColumn, CategoryColumn, MassColumn, ColumnCount };
+  enum Column { NameColumn, CategoryColumn, MassColumn, CollisionColumn, ColumnCount };
   enum Role {
     PartIdRole = Qt::UserRole + 1,  // qulonglong PartId for parts and their mesh nodes, else invalid
     KindRole,                       // int(vaw::TreeNode::Kind)
@@ -21,8 +22,8 @@ class SceneTreeModel : public QAbstractItemModel {
 
   explicit SceneTreeModel(QObject* parent = nullptr);
 
-  // Rebuilds the model from `assembly` (null: empty model).
-  void setAssembly(const vaw::Assembly* assembly);
+  // Rebuilds the model from `assembly` (null: empty model); `collision` says how each object collides.
+  void setAssembly(const vaw::Assembly* assembly, const std::vector<vaw::collision::ObjectInfo>& collision = {});
 
   [[nodiscard]] QModelIndex indexOfPart(vaw::PartId part) const;
   // The part an item stands for: a part, or the part a mesh node belongs to.
@@ -44,6 +45,8 @@ class SceneTreeModel : public QAbstractItemModel {
     std::optional<vaw::PartId> part;
     QString category;
     QString mass;
+    QString collision;
+    QString collisionToolTip;
     QString toolTip;
     int parent = -1;  // index into items_, -1 for the root
     int row = 0;      // row under its parent
@@ -51,9 +54,11 @@ class SceneTreeModel : public QAbstractItemModel {
   };
   int add(const vaw::Assembly& assembly, const vaw::TreeNode& node, int parent, int row,
           std::optional<vaw::PartId> owningPart);
+  void describeCollision(Item& item, vaw::collision::ObjectId id) const;
   [[nodiscard]] const Item* itemAt(const QModelIndex& index) const;
 
   std::vector<Item> items_;  // items_[0] is the root when the model is not empty
+  std::vector<vaw::collision::ObjectInfo> collision_;
 };
 
 }  // namespace vaw::ui
