@@ -45,6 +45,39 @@ TriMesh box(const Eigen::Vector3d& size) {
   return std::move(b.m);
 }
 
+TriMesh gridBox(const Eigen::Vector3d& size, int n) {
+  TriMesh m;
+  const Eigen::Vector3d h = size / 2.0;
+  // Each face: axis a fixed at +-h[a], the other two axes b, c gridded.
+  for (int a = 0; a < 3; ++a)
+    for (double side : {-1.0, 1.0}) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      const int first = static_cast<int>(m.vertices.size());
+      for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n; ++j) {
+          Eigen::Vector3d v;
+          v[a] = side * h[a];
+          v[b] = -h[b] + size[b] * i / n;
+          v[c] = -h[c] + size[c] * j / n;
+          m.vertices.push_back(v);
+        }
+      auto id = [&](int i, int j) { return first + i * (n + 1) + j; };
+      for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+          // (b, c, a) is right-handed, so counter-clockwise in (b, c) faces +a.
+          if (side > 0) {
+            m.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+            m.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+          } else {
+            m.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i + 1, j));
+            m.triangles.emplace_back(id(i, j), id(i, j + 1), id(i + 1, j + 1));
+          }
+        }
+    }
+  weldVertices(m, 1e-12);
+  return m;
+}
+
 TriMesh cylinder(double radius, double height, int segments) {
   Builder b;
   const double z = height / 2.0;

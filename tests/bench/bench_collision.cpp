@@ -54,37 +54,6 @@ const Assembly& scene(int i) {
   return it->second;
 }
 
-// A box whose faces are split into n x n grids (12 n^2 triangles), centred on its frame.
-TriMesh gridBox(const Eigen::Vector3d& size, int n) {
-  TriMesh m;
-  const Eigen::Vector3d h = size / 2.0;
-  for (int a = 0; a < 3; ++a)
-    for (double side : {-1.0, 1.0}) {
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      const int first = static_cast<int>(m.vertices.size());
-      for (int i = 0; i <= n; ++i)
-        for (int j = 0; j <= n; ++j) {
-          Eigen::Vector3d v;
-          v[a] = side * h[a];
-          v[b] = -h[b] + size[b] * i / n;
-          v[c] = -h[c] + size[c] * j / n;
-          m.vertices.push_back(v);
-        }
-      auto id = [&](int i, int j) { return first + i * (n + 1) + j; };
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) {
-          if (side > 0) {
-            m.triangles.emplace_back(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-            m.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-          } else {
-            m.triangles.emplace_back(id(i, j), id(i + 1, j + 1), id(i + 1, j));
-            m.triangles.emplace_back(id(i, j), id(i, j + 1), id(i + 1, j + 1));
-          }
-        }
-    }
-  weldVertices(m, 1e-12);
-  return m;
-}
 
 // The performance case of the issue: a 10,092-triangle block (60 x 40 x 30 mm, every face a 29 x 29 grid)
 // resting on a 248,832-triangle plate (300 x 200 x 40 mm, 144 x 144 grids, top at z = 20 mm) that carries
@@ -93,7 +62,7 @@ struct Large {
   Assembly a;
   Constraint mate;
   Large() {
-    TriMesh base = gridBox({0.3, 0.2, 0.04}, 144);
+    TriMesh base = vaw::primitives::gridBox({0.3, 0.2, 0.04}, 144);
     TriMesh wall = primitives::box({0.02, 0.2, 0.05});
     base.append(wall, at(0.11, 0, 0.045));
     Part b;
@@ -104,7 +73,7 @@ struct Large {
     Part p;
     p.id = 1;
     p.name = "block";
-    p.mesh = std::make_shared<const TriMesh>(gridBox({0.06, 0.04, 0.03}, 29));
+    p.mesh = std::make_shared<const TriMesh>(vaw::primitives::gridBox({0.06, 0.04, 0.03}, 29));
     p.pose = at(0.0, 0.0, 0.035);
     p.mass.mass = 0.2;
     a.parts = {b, p};

@@ -37,7 +37,5 @@ struct SceneBuilder {
                     const Eigen::Vector3d& basePoint, const Eigen::Vector3d& baseDir);
 };
 
-// A box whose faces are split into an n x n grid each (6 * 2 * n^2 triangles), centred on its frame.
-TriMesh gridBox(const Eigen::Vector3d& size, int n);
 
 }  // namespace vaw::ctest

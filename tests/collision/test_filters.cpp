@@ -177,7 +177,7 @@ TEST(Filters, FineTessellationDoesNotHideADeepCrossing) {
   for (double sink : {1e-3, 1e-2}) {
     ctest::SceneBuilder b;
     b.part("big", primitives::box({0.125, 0.125, 0.125}), at(0, 0, 0.0625));
-    b.part("small", ctest::gridBox({0.0625, 0.0625, 0.0625}, 16), at(0.01, 0.005, 0.125 + 0.03125 - sink));
+    b.part("small", primitives::gridBox({0.0625, 0.0625, 0.0625}, 16), at(0.01, 0.005, 0.125 + 0.03125 - sink));
     const CollisionWorld w(b.a);
     QueryOptions o;
     o.dropTouching = true;
@@ -189,7 +189,7 @@ TEST(Filters, FineTessellationDoesNotHideADeepCrossing) {
   // Exactly resting, the fine faces only touch.
   ctest::SceneBuilder b;
   b.part("big", primitives::box({0.125, 0.125, 0.125}), at(0, 0, 0.0625));
-  b.part("small", ctest::gridBox({0.0625, 0.0625, 0.0625}, 16), at(0.01, 0.005, 0.125 + 0.03125));
+  b.part("small", primitives::gridBox({0.0625, 0.0625, 0.0625}, 16), at(0.01, 0.005, 0.125 + 0.03125));
   const CollisionWorld w(b.a);
   QueryOptions o;
   const QueryResult r = w.query(ObjectId::part(1), ObjectId::part(0), o);

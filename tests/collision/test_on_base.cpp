@@ -97,7 +97,7 @@ struct BlockAndWall {
       : world(make(wallX, wallThickness, blockX, plateGrid, sup)), support(world.support(sup)) {}
   static Assembly make(double wallX, double thick, double blockX, int grid, Constraint& c) {
     ctest::SceneBuilder b;
-    TriMesh base = grid > 1 ? ctest::gridBox({0.3, 0.2, 0.04}, grid) : primitives::box({0.3, 0.2, 0.04});
+    TriMesh base = grid > 1 ? primitives::gridBox({0.3, 0.2, 0.04}, grid) : primitives::box({0.3, 0.2, 0.04});
     base.append(primitives::box({thick, 0.2, 0.05}), at(wallX + thick / 2, 0, kTop + 0.025));
     b.part("base", std::move(base), at(0, 0, 0));
     b.part("block", primitives::box({0.06, 0.04, 0.03}), at(blockX, 0.0, kTop + 0.015), 2700.0);

@@ -46,7 +46,7 @@ TEST(Patches, BoxHasSixFacesAndNoCylinder) {
 }
 
 TEST(Patches, FinelySplitFaceIsOnePatchWithAFourCornerOutline) {
-  const SurfacePatches sp = classifySurfaces(ctest::gridBox({0.3, 0.2, 0.04}, 20));
+  const SurfacePatches sp = classifySurfaces(primitives::gridBox({0.3, 0.2, 0.04}, 20));
   ASSERT_EQ(sp.planes.size(), 6u);
   for (const auto& p : sp.planes) {
     EXPECT_EQ(p.triangles.size(), 800u);

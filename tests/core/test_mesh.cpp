@@ -87,3 +87,11 @@ TEST(TriMesh, AppendAndBounds) {
   EXPECT_NEAR(a.bounds().max().x(), 2.5, 1e-15);
   EXPECT_NEAR(a.bounds().min().x(), -0.5, 1e-15);
 }
+
+TEST(Primitives, GridBoxIsAClosedBoxOfManyTriangles) {
+  const TriMesh m = primitives::gridBox({0.3, 0.2, 0.04}, 7);
+  EXPECT_EQ(m.triangleCount(), 12u * 7u * 7u);
+  EXPECT_TRUE(checkMesh(m).valid()) << checkMesh(m).summary();
+  EXPECT_EQ(checkMesh(m).duplicateVertices, 0u) << "face grids share their edge vertices";
+  EXPECT_NEAR(m.bounds().sizes().prod(), 0.3 * 0.2 * 0.04, 1e-15);
+}

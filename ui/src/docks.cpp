@@ -75,11 +75,11 @@ PartDock::PartDock(QWidget* parent) : QDockWidget(tr("Part"), parent) {
   view_->horizontalHeader()->setSectionResizeMode(PartPropertiesModel::PropertyColumn,
                                                    QHeaderView::ResizeToContents);
   view_->horizontalHeader()->setStretchLastSection(true);
-  placeholder_ = new QLabel(tr("Select a part in the scene tree or the viewport."), this);
-  placeholder_->setAlignment(Qt::AlignCenter);
-  placeholder_->setWordWrap(true);
+  emptyHint_ = new QLabel(tr("Select a part in the scene tree or the viewport."), this);
+  emptyHint_->setAlignment(Qt::AlignCenter);
+  emptyHint_->setWordWrap(true);
   auto* stack = new QStackedWidget(this);
-  stack->addWidget(placeholder_);
+  stack->addWidget(emptyHint_);
   stack->addWidget(view_);
   setWidget(stack);
 }
@@ -91,7 +91,7 @@ void PartDock::showPart(const vaw::Assembly* assembly, std::optional<vaw::PartId
     if (part && c.id == vaw::collision::ObjectId::part(*part)) info = &c;
   model_->setPart(assembly, part, info);
   auto* stack = static_cast<QStackedWidget*>(widget());
-  stack->setCurrentWidget(model_->rowCount() > 0 ? static_cast<QWidget*>(view_) : placeholder_);
+  stack->setCurrentWidget(model_->rowCount() > 0 ? static_cast<QWidget*>(view_) : emptyHint_);
   view_->resizeRowsToContents();
 }
 

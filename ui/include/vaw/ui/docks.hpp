@@ -55,7 +55,7 @@ class PartDock : public QDockWidget {
  private:
   PartPropertiesModel* model_ = nullptr;
   QTableView* view_ = nullptr;
-  QLabel* placeholder_ = nullptr;
+  QLabel* emptyHint_ = nullptr;
 };
 
 // "Messages": load warnings and errors, plugin problems.
