@@ -1,0 +1,53 @@
+#include "sim_test_support.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <random>
+
+#include "vaw/scene_loader.hpp"
+
+namespace vaw::simtest {
+
+const ImporterRegistry& importers() {
+  static ImporterRegistry* registry = [] {
+    auto* r = new ImporterRegistry();
+    for (const auto& p : r->loadPlugins(VAW_BUILD_PLUGIN_DIR)) ADD_FAILURE() << p;
+    return r;
+  }();
+  EXPECT_FALSE(registry->importerNames().empty()) << "no importer plugin in " << VAW_BUILD_PLUGIN_DIR;
+  return *registry;
+}
+
+std::filesystem::path resources() { return VAW_BUILD_RESOURCE_DIR; }
+
+Assembly loadBundled(const std::string& sceneFile) { return loadScene(resources() / "scenes" / sceneFile, importers()); }
+
+std::filesystem::path tempDir() {
+  std::random_device rd;
+  auto dir = std::filesystem::temp_directory_path() / ("vaw-sim-test-" + std::to_string(rd()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::vector<std::string> transitionNames(const sim::World& w, PartId part) {
+  std::vector<std::string> out;
+  for (const auto& t : w.transitions())
+    if (t.part == part)
+      out.push_back(std::string(interact::name(t.event)) + ":" + std::string(interact::name(t.to)));
+  return out;
+}
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : " ") + x;
+  return s;
+}
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+}  // namespace vaw::simtest
