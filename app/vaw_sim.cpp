@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "run_command.hpp"
 #include "work_precision_command.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
@@ -17,6 +18,7 @@ constexpr const char* kUsage =
     "usage: vaw-sim inspect SCENE [--json] [--categories default|stricter]\n"
     "       vaw-sim work-precision --out DIR [--repeats N] [--no-peers]\n"
     "       vaw-sim states [--dot]\n"
+    "       vaw-sim run SCENE --inputs SCRIPT --out DIR | run --replay SESSION --out DIR\n"
     "\n"
     "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
     "             centre of mass, principal moments, category and why.\n"
@@ -26,6 +28,8 @@ constexpr const char* kUsage =
     "             tumbling block) with every method at 30..1000 Hz, and the Bullet/ODE peers when\n"
     "             built; write DIR/work-precision.csv and one chart per scenario (PNG and SVG)\n"
     "  states     print the part-state transition table (--dot: as Graphviz, docs/states.dot)\n"
+    "  run        simulate SCENE headless over an input script (docs/inputs-format.md) or a recorded\n"
+    "             session; write DIR/trajectories.csv, DIR/transitions.csv, DIR/session.vaw-session.json\n"
     "\n"
     "exit status: 0 ok, 1 bad input (the message names file, field and expectation), 2 usage\n";
 
@@ -145,6 +149,7 @@ int main(int argc, char** argv) {
     std::fputs((dot ? vaw::interact::tableDot() : vaw::interact::tableText()).c_str(), stdout);
     return 0;
   }
+  if (command == "run") return vaw::app::run(args);
   if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
   std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
   return 2;
