@@ -1,0 +1,124 @@
+// The simulation world's step cost against the number of parts that are not active (issue 5: "step cost
+// grows with active parts only"). One active part, a 50 mm steel cube in free flight (free-flight gravity
+// scale 0, drifting at 0.1 mm/s, 0.3 m from the nearest other part) runs its time-of-impact query every step;
+// every other part is STATIC. Assemblies: a grid of N resting cubes on a table (N = 10, 100, 1000) and the
+// bundled large gearbox (large meshes) with the cube added.
+//   build/bin/vaw_bench_world [--benchmark_repetitions=5 --benchmark_report_aggregates_only=true]
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <memory>
+
+#include "vaw/primitives.hpp"
+#include "vaw/scene_loader.hpp"
+#include "vaw/sim/world.hpp"
+
+namespace {
+
+const vaw::ImporterRegistry& importers() {
+  static vaw::ImporterRegistry r;
+  static bool loaded = [] {
+    (void)r.loadPlugins(VAW_BUILD_PLUGIN_DIR);
+    return true;
+  }();
+  (void)loaded;
+  return r;
+}
+
+Eigen::Isometry3d at(double x, double y, double z) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.translation() = Eigen::Vector3d(x, y, z);
+  return p;
+}
+
+vaw::PartId addCube(vaw::Assembly& a, const std::string& name, const Eigen::Isometry3d& pose) {
+  vaw::Part p;
+  p.id = a.parts.size();
+  p.name = name;
+  p.pose = pose;
+  vaw::TriMesh mesh = vaw::primitives::box({0.05, 0.05, 0.05});
+  p.mass = vaw::massPropertiesFromMesh(mesh, 7850.0);
+  p.mesh = std::make_shared<const vaw::TriMesh>(std::move(mesh));
+  p.shapeSource = "box 50 mm";
+  p.extent = 0.05;
+  p.category = vaw::categorize(p.mass.mass, p.extent, vaw::CategorySettings::defaults());
+  a.parts.push_back(std::move(p));
+  return a.parts.size() - 1;
+}
+
+// N cubes on a 0.1 m grid on a table; the flying cube 0.3 m beyond the grid's -x edge.
+vaw::Assembly grid(int n, Eigen::Vector3d& flyAt) {
+  vaw::Assembly a;
+  a.name = "grid";
+  const int side = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  for (int i = 0; i < n; ++i) addCube(a, "cube" + std::to_string(i), at(0.1 * (i % side), 0.1 * (i / side), 0.025));
+  vaw::EnvironmentObject table;
+  table.name = "table";
+  table.kind = "table";
+  table.mesh = std::make_shared<const vaw::TriMesh>(vaw::primitives::box({8.0, 8.0, 0.04}));
+  table.shapeSource = "box";
+  table.pose = at(0, 0, -0.02);
+  a.environment.push_back(table);
+  flyAt = Eigen::Vector3d(-0.3, 0.0, 0.1);
+  return a;
+}
+
+vaw::Assembly gearbox(Eigen::Vector3d& flyAt) {
+  vaw::Assembly a = vaw::loadScene(std::filesystem::path(VAW_BUILD_RESOURCE_DIR) / "scenes" / "large-gearbox.vaw.json", importers());
+  const Eigen::AlignedBox3d b = a.worldBounds();
+  flyAt = Eigen::Vector3d(b.min().x() - 0.3, b.center().y(), b.center().z());
+  return a;
+}
+
+// Builds the world and puts the extra cube in flight: held for 10 steps while moving at 0.1 mm/s, released.
+std::unique_ptr<vaw::sim::World> flying(vaw::Assembly a, const Eigen::Vector3d& flyAt) {
+  const vaw::PartId cube = addCube(a, "flyer", at(flyAt.x(), flyAt.y(), flyAt.z()));
+  vaw::sim::Settings s;
+  s.gravity.freeFlight = 0.0;
+  auto w = std::make_unique<vaw::sim::World>(a, s);
+  vaw::sim::Input in;
+  for (int k = 0; k < 10; ++k) {
+    in.left = {at(flyAt.x() - 0.0001 / 90.0 * k, flyAt.y(), flyAt.z()), true};
+    w->step(in);
+  }
+  in.left.grab = false;
+  w->step(in);
+  if (w->part(cube).state != vaw::interact::PartState::InSpace) throw std::runtime_error("the cube is not in flight");
+  return w;
+}
+
+void run(benchmark::State& state, const vaw::Assembly& a, const Eigen::Vector3d& flyAt) {
+  auto w = flying(a, flyAt);
+  int steps = 0;
+  const vaw::sim::Input idle;
+  for (auto _ : state) {
+    if (++steps == 90000) {  // 1000 s of flight (10 cm): start again so the situation stays the same
+      state.PauseTiming();
+      w = flying(a, flyAt);
+      steps = 0;
+      state.ResumeTiming();
+    }
+    w->step(idle);
+    benchmark::DoNotOptimize(w->time());
+  }
+  state.counters["parts"] = static_cast<double>(a.parts.size() + 1);
+  state.counters["active"] = static_cast<double>(w->activeParts());
+}
+
+void BM_WorldStepOneFlyingPartGrid(benchmark::State& state) {
+  Eigen::Vector3d flyAt;
+  const vaw::Assembly a = grid(static_cast<int>(state.range(0)), flyAt);
+  run(state, a, flyAt);
+}
+BENCHMARK(BM_WorldStepOneFlyingPartGrid)->Arg(10)->Arg(100)->Arg(1000)->Unit(benchmark::kMicrosecond);
+
+void BM_WorldStepOneFlyingPartLargeGearbox(benchmark::State& state) {
+  Eigen::Vector3d flyAt;
+  const vaw::Assembly a = gearbox(flyAt);
+  run(state, a, flyAt);
+}
+BENCHMARK(BM_WorldStepOneFlyingPartLargeGearbox)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
