@@ -9,25 +9,11 @@
 
 namespace vaw::ctest {
 
-const ImporterRegistry& importers() {
-  static ImporterRegistry* registry = [] {
-    auto* r = new ImporterRegistry();
-    for (const auto& p : r->loadPlugins(VAW_BUILD_PLUGIN_DIR)) ADD_FAILURE() << p;
-    return r;
-  }();
-  EXPECT_FALSE(registry->importerNames().empty()) << "no importer plugin in " << VAW_BUILD_PLUGIN_DIR;
-  return *registry;
-}
-
-std::filesystem::path resources() { return VAW_BUILD_RESOURCE_DIR; }
-
 std::string um(double metres) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.2f um", metres * 1e6);
   return buf;
 }
-
-Assembly loadBundled(const std::string& sceneFile) { return loadScene(resources() / "scenes" / sceneFile, importers()); }
 
 PartId SceneBuilder::part(const std::string& name, TriMesh mesh, const Eigen::Isometry3d& pose, double density) {
   Part p;

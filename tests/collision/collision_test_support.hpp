@@ -2,6 +2,8 @@
 // Scenes for the collision tests: built from vaw::primitives, or the bundled ones loaded through the
 // assimp plugin of the build tree (VAW_BUILD_PLUGIN_DIR / VAW_BUILD_RESOURCE_DIR).
 #include <filesystem>
+
+#include "bundled.hpp"
 #include <string>
 
 #include "vaw/assembly.hpp"
@@ -10,9 +12,9 @@
 
 namespace vaw::ctest {
 
-const ImporterRegistry& importers();
-std::filesystem::path resources();
-Assembly loadBundled(const std::string& sceneFile);
+using vaw::test::importers;
+using vaw::test::loadBundled;
+using vaw::test::resources;
 
 // A length for the test report (RecordProperty), in micrometres.
 std::string um(double metres);

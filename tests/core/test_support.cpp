@@ -8,19 +8,6 @@
 
 namespace vaw::test {
 
-const ImporterRegistry& importers() {
-  static ImporterRegistry* registry = [] {
-    auto* r = new ImporterRegistry();
-    const auto problems = r->loadPlugins(VAW_BUILD_PLUGIN_DIR);
-    for (const auto& p : problems) ADD_FAILURE() << p;
-    return r;
-  }();
-  EXPECT_FALSE(registry->importerNames().empty()) << "no importer plugin in " << VAW_BUILD_PLUGIN_DIR;
-  return *registry;
-}
-
-std::filesystem::path resources() { return VAW_BUILD_RESOURCE_DIR; }
-
 namespace {
 struct TempRoot {
   std::filesystem::path path;

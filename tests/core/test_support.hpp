@@ -2,13 +2,10 @@
 #include <filesystem>
 #include <string>
 
+#include "bundled.hpp"
 #include "vaw/importer.hpp"
 
 namespace vaw::test {
-
-// A registry with the build tree's importer plugins loaded (fails the test if none load).
-const ImporterRegistry& importers();
-std::filesystem::path resources();
 
 // A fresh folder under the system temp dir, removed at the end of the test program.
 std::filesystem::path tempDir();

@@ -9,20 +9,6 @@
 
 namespace vaw::simtest {
 
-const ImporterRegistry& importers() {
-  static ImporterRegistry* registry = [] {
-    auto* r = new ImporterRegistry();
-    for (const auto& p : r->loadPlugins(VAW_BUILD_PLUGIN_DIR)) ADD_FAILURE() << p;
-    return r;
-  }();
-  EXPECT_FALSE(registry->importerNames().empty()) << "no importer plugin in " << VAW_BUILD_PLUGIN_DIR;
-  return *registry;
-}
-
-std::filesystem::path resources() { return VAW_BUILD_RESOURCE_DIR; }
-
-Assembly loadBundled(const std::string& sceneFile) { return loadScene(resources() / "scenes" / sceneFile, importers()); }
-
 std::filesystem::path tempDir() {
   std::random_device rd;
   auto dir = std::filesystem::temp_directory_path() / ("vaw-sim-test-" + std::to_string(rd()));

@@ -6,15 +6,16 @@
 #include <string>
 #include <vector>
 
+#include "bundled.hpp"
 #include "vaw/assembly.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/sim/world.hpp"
 
 namespace vaw::simtest {
 
-const ImporterRegistry& importers();
-std::filesystem::path resources();
-Assembly loadBundled(const std::string& sceneFile);
+using vaw::test::importers;
+using vaw::test::loadBundled;
+using vaw::test::resources;
 std::filesystem::path tempDir();
 
 inline Eigen::Isometry3d at(double x, double y, double z) {
