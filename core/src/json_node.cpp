@@ -123,4 +123,23 @@ Eigen::Vector3d Node::direction() const {
   return v / n;
 }
 
+Eigen::Matrix3d Node::rotation() const {
+  requireObject();
+  if (has("quaternion")) {
+    allowOnly({"quaternion"});
+    const Node qn = get("quaternion");
+    if (!qn.json().is_array() || qn.size() != 4) qn.fail("[w, x, y, z]");
+    const Eigen::Quaterniond q(qn.at(0).number(), qn.at(1).number(), qn.at(2).number(), qn.at(3).number());
+    if (std::abs(q.norm() - 1.0) > 1e-6) {
+      std::ostringstream norm;
+      norm << "norm " << q.norm();
+      qn.failWith("a unit quaternion (norm within 1e-6 of 1)", norm.str());
+    }
+    return q.normalized().toRotationMatrix();
+  }
+  allowOnly({"axis", "angle"});
+  const Eigen::Vector3d axis = get("axis").direction();
+  return Eigen::AngleAxisd(get("angle").number() * M_PI / 180.0, axis).toRotationMatrix();
+}
+
 }  // namespace vaw::detail

@@ -1,7 +1,7 @@
 #pragma once
 // A JSON value together with the file and the field path it came from, so that every validation error
 // names the file, the field and what was expected (DESIGN.md principle 6). Internal to the core.
-#include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <filesystem>
 #include <initializer_list>
 #include <nlohmann/json.hpp>
@@ -45,6 +45,8 @@ class Node {
   [[nodiscard]] int integer() const;
   [[nodiscard]] Eigen::Vector3d vec3() const;
   [[nodiscard]] Eigen::Vector3d direction() const;  // non-zero, returned unit length
+  // {"quaternion": [w, x, y, z]} (unit within 1e-6) or {"axis": [x, y, z], "angle": degrees}.
+  [[nodiscard]] Eigen::Matrix3d rotation() const;
 
  private:
   const Json* j_;

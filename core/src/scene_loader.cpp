@@ -50,22 +50,7 @@ Eigen::Isometry3d readPose(const Node& n, double L) {
   n.allowOnly({"position", "rotation"});
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (auto p = n.opt("position")) pose.translation() = p->vec3() * L;
-  if (auto r = n.opt("rotation")) {
-    r->requireObject();
-    if (r->has("quaternion")) {
-      r->allowOnly({"quaternion"});
-      const Node qn = r->get("quaternion");
-      if (!qn.json().is_array() || qn.size() != 4) qn.fail("[w, x, y, z]");
-      Eigen::Quaterniond q(qn.at(0).number(), qn.at(1).number(), qn.at(2).number(), qn.at(3).number());
-      if (std::abs(q.norm() - 1.0) > 1e-6) qn.failWith("a unit quaternion (norm within 1e-6 of 1)", "norm " + toString(q.norm()));
-      pose.linear() = q.normalized().toRotationMatrix();
-    } else {
-      r->allowOnly({"axis", "angle"});
-      const Eigen::Vector3d axis = r->get("axis").direction();
-      const double angle = r->get("angle").number() * M_PI / 180.0;
-      pose.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
-    }
-  }
+  if (auto r = n.opt("rotation")) pose.linear() = r->rotation();
   return pose;
 }
 

@@ -24,20 +24,7 @@ Eigen::Isometry3d readPose(const Node& n, double L, bool allowGrab) {
   else n.allowOnly({"position", "rotation"});
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.translation() = n.get("position").vec3() * L;
-  if (auto r = n.opt("rotation")) {
-    r->requireObject();
-    if (r->has("quaternion")) {
-      r->allowOnly({"quaternion"});
-      const Node qn = r->get("quaternion");
-      if (!qn.json().is_array() || qn.size() != 4) qn.fail("[w, x, y, z]");
-      Eigen::Quaterniond q(qn.at(0).number(), qn.at(1).number(), qn.at(2).number(), qn.at(3).number());
-      if (std::abs(q.norm() - 1.0) > 1e-6) qn.fail("a unit quaternion (norm within 1e-6 of 1)");
-      pose.linear() = q.normalized().toRotationMatrix();
-    } else {
-      r->allowOnly({"axis", "angle"});
-      pose.linear() = Eigen::AngleAxisd(r->get("angle").number() * kDeg, r->get("axis").direction()).toRotationMatrix();
-    }
-  }
+  if (auto r = n.opt("rotation")) pose.linear() = r->rotation();
   return pose;
 }
 
