@@ -67,7 +67,6 @@ struct PartModel {
   Eigen::Vector3d blockedDir = Eigen::Vector3d::Zero();     // base frame: the way it was last blocked
   double blockedRot = 0.0;                                   // sign of the rotation last blocked
   bool sliding = false;                                      // the slide's "moving" flag
-  bool ownSearch = false;  // the fit's own pairs block collision::firstEventOnBase: search without them
   dyn::Release release;
   Eigen::Vector3d gFree = Eigen::Vector3d::Zero();
   dyn::RotationModel rotation = dyn::RotationModel::ConstantOmega;
@@ -286,7 +285,6 @@ struct World::Impl {
     r.velocity.setZero();
     r.angularVelocity.setZero();
     m.sliding = false;
-    m.ownSearch = false;
     m.blockedDir.setZero();
     m.blockedRot = 0.0;
     m.inBase = basePose.inverse() * r.pose;
@@ -386,112 +384,6 @@ struct World::Impl {
   }
 
   // ---- on the base ----
-  // A blocking pair between the two cylinders of the insert the part rests by: the tessellated bore and
-  // shaft of an equal-diameter fit interpenetrate by up to a sagitta or so when the part turns about the
-  // axis (facets no longer aligned); that is the fit itself, not an obstacle.
-  [[nodiscard]] bool supportFitPair(const collision::Support& sup, const collision::Contact& c,
-                                    const Eigen::Isometry3d& partPose) const {
-    if (sup.kind != collision::Support::Kind::Axis) return false;
-    const collision::ObjectId partObj = collision::ObjectId::part(sup.part), baseObj = collision::ObjectId::part(sup.base);
-    const collision::SurfacePatches* pp = collision.patches(partObj);
-    const collision::SurfacePatches* bp = collision.patches(baseObj);
-    if (!pp || !bp || c.triangleA < 0 || c.triangleB < 0) return false;
-    const bool aIsPart = c.a == partObj && c.b == baseObj;
-    const bool bIsPart = c.b == partObj && c.a == baseObj;
-    if (!aIsPart && !bIsPart) return false;
-    const auto ta = static_cast<std::size_t>(aIsPart ? c.triangleA : c.triangleB);
-    const auto tb = static_cast<std::size_t>(aIsPart ? c.triangleB : c.triangleA);
-    if (ta >= pp->cylinderOf.size() || tb >= bp->cylinderOf.size()) return false;
-    const int ca = pp->cylinderOf[ta], cb = bp->cylinderOf[tb];
-    const bool onPart = std::find(sup.partPatches.begin(), sup.partPatches.end(), ca) != sup.partPatches.end();
-    const bool onBase = std::find(sup.basePatches.begin(), sup.basePatches.end(), cb) != sup.basePatches.end();
-    if (!onPart && !onBase) return false;
-    // Where the pair meets: on the fit's circle (within the facets' sagittas) about the base's axis.
-    const collision::CylindricalPatch& cyl = onBase ? bp->cylinders[static_cast<std::size_t>(cb)]
-                                                    : pp->cylinders[static_cast<std::size_t>(ca)];
-    const Eigen::Isometry3d& frame = onBase ? collision.pose(baseObj) : partPose;
-    const Eigen::Vector3d q = frame.inverse() * c.position - cyl.point;
-    const double r = (q - cyl.direction * cyl.direction.dot(q)).norm();
-    const double slack = 4.0 * cyl.sagitta + 2.0 * collision.tolerances().distance;
-    return std::abs(r - cyl.radius) <= slack;
-  }
-
-  // The first event (blocked, lost touch) at parameter x, ignoring the fit's own pairs.
-  [[nodiscard]] collision::EventKind eventAt(const collision::Support& sup, const collision::Motion& m, double x,
-                                             collision::MotionEvent& out) const {
-    const Eigen::Isometry3d pose = m.pose(x);
-    const collision::TouchResult tr = collision.touching(sup, pose);
-    if (!tr.touching) {
-      out.touch = tr;
-      return collision::EventKind::LostTouch;
-    }
-    const collision::BlockResult br = collision.blocked(sup, pose, 64);
-    if (!br.blocked) return collision::EventKind::None;
-    for (const collision::Contact& c : br.contacts) {
-      if (supportFitPair(sup, c, pose)) continue;
-      out.contacts = br.contacts;
-      out.other = br.by;
-      return collision::EventKind::Blocked;
-    }
-    return br.contacts.size() >= 64 ? collision::EventKind::Blocked : collision::EventKind::None;
-  }
-
-  // collision::firstEventOnBase, and where it reports a block made only of the fit's own pairs, the same
-  // search (samples no more than 1 mm of motion apart, then bisection to 10 um) without those pairs.
-  [[nodiscard]] collision::MotionEvent onBaseEvent(const collision::Support& sup, const collision::Motion& m, bool& ownSearch) const {
-    if (!ownSearch) {
-      collision::MotionEvent ev = collision::firstEventOnBase(collision, sup, m);
-      if (ev.kind != collision::EventKind::Blocked) return ev;
-      bool onlyFit = !ev.contacts.empty();
-      const Eigen::Isometry3d at = m.pose(ev.sEvent);
-      for (const collision::Contact& c : ev.contacts) onlyFit = onlyFit && supportFitPair(sup, c, at);
-      if (!onlyFit) return ev;
-      ownSearch = true;  // for the rest of this stay on the base
-    }
-    const collision::ToiOptions opt;
-    collision::MotionEvent out;
-    const double span = m.s1 - m.s0;
-    const int n = std::max(1, static_cast<int>(std::ceil(m.speedBound * span / opt.maxStep)));
-    double lo = m.s0;
-    for (int i = 1; i <= n; ++i) {
-      const double hi = m.s0 + span * i / n;
-      collision::MotionEvent probe;
-      const collision::EventKind k = eventAt(sup, m, hi, probe);
-      ++out.evaluations;
-      if (k == collision::EventKind::None) {
-        lo = hi;
-        continue;
-      }
-      double a = lo, b = hi;
-      collision::MotionEvent at = probe;
-      collision::EventKind kind = k;
-      for (int it = 0; it < 60 && (b - a) * m.speedBound > opt.tolerance; ++it) {
-        const double mid = 0.5 * (a + b);
-        collision::MotionEvent pm;
-        const collision::EventKind km = eventAt(sup, m, mid, pm);
-        ++out.evaluations;
-        if (km == collision::EventKind::None) {
-          a = mid;
-        } else {
-          b = mid;
-          at = pm;
-          kind = km;
-        }
-      }
-      out.kind = kind;
-      out.s = a;
-      out.sEvent = b;
-      out.contacts = at.contacts;
-      out.other = at.other;
-      out.touch = at.touch;
-      out.initiallyBlocked = a == m.s0 && i == 1 && eventAt(sup, m, m.s0, probe) != collision::EventKind::None;
-      return out;
-    }
-    out.kind = collision::EventKind::None;
-    out.s = out.sEvent = m.s1;
-    return out;
-  }
-
   [[nodiscard]] double torqueEps(PartId id) const {
     return 1e-6 * def(id).mass.mass * kStandardGravity * std::max(settings.gravity.rotation, 1e-12);
   }
@@ -549,7 +441,7 @@ struct World::Impl {
       motion.pose = [this, id, B, a0, a1, s0, s1, p0, p1](double x) {
         return B * inBaseOf(id, a0 + x * (a1 - a0), s0 + x * (s1 - s0), p0 + x * (p1 - p0));
       };
-      ev = onBaseEvent(sup, motion, m.ownSearch);
+      ev = collision::firstEventOnBase(collision, sup, motion);
     }
     const double x = ev.kind == collision::EventKind::None ? 1.0 : ev.s;
     r.angle = a0 + x * (a1 - a0);
