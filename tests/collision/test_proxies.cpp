@@ -120,3 +120,39 @@ TEST(Proxies, PartsWithTheSameMeshShareOneHierarchy) {
   // Each copy still collides at its own pose.
   EXPECT_NEAR(w.distance(ObjectId::part(1), ObjectId::part(2)), 0.05 - 0.012, 1e-9);
 }
+
+// Rays (the drop line under a lifted part): exact against meshes (the hierarchy finds the triangles, which
+// are then intersected) and against box, sphere and cylinder proxies; `except` skips an object.
+TEST(Rays, HitMeshesAndPrimitivesExactly) {
+  ctest::SceneBuilder b;
+  const PartId slab = b.part("slab", primitives::box({0.2, 0.2, 0.05}), at(0, 0, 0.3));
+  const PartId probe = b.part("probe", primitives::box({0.01, 0.01, 0.01}), at(0.03, 0.02, 0.5));
+  b.environment("table", primitives::box({2, 2, 0.04}), at(0, 0, -0.02), "primitive box");
+  b.environment("ball", primitives::sphere(0.1, 32, 16), at(1, 0, 0.1), "primitive sphere");
+  b.environment("post", primitives::cylinder(0.05, 0.4, 32), at(-1, 0, 0.2), "primitive cylinder");
+  const CollisionWorld w(b.a);
+  const Eigen::Vector3d down = -Eigen::Vector3d::UnitZ();
+  const auto onSlab = w.castRay({0.03, 0.02, 0.5}, down, 10.0, ObjectId::part(probe));
+  ASSERT_TRUE(onSlab);
+  EXPECT_EQ(onSlab->object, ObjectId::part(slab));
+  EXPECT_NEAR(onSlab->point.z(), 0.325, 1e-12);
+  EXPECT_NEAR(onSlab->distance, 0.175, 1e-12);
+  const auto self = w.castRay({0.03, 0.02, 0.6}, down, 10.0);
+  ASSERT_TRUE(self);
+  EXPECT_EQ(self->object, ObjectId::part(probe)) << "without except the probe itself is first";
+  const auto table = w.castRay({0.5, 0.5, 1.0}, down, 10.0);
+  ASSERT_TRUE(table);
+  EXPECT_EQ(table->object, ObjectId::environment(0));
+  EXPECT_NEAR(table->point.z(), 0.0, 1e-12);
+  const auto ball = w.castRay({1.0, 0.0, 1.0}, down, 10.0);
+  ASSERT_TRUE(ball);
+  EXPECT_NEAR(ball->point.z(), 0.2, 1e-12) << "the exact sphere, not its facets";
+  const auto post = w.castRay({-1.03, 0.0, 1.0}, down, 10.0);
+  ASSERT_TRUE(post);
+  EXPECT_NEAR(post->point.z(), 0.4, 1e-12);
+  const auto side = w.castRay({-2.0, 0.0, 0.2}, Eigen::Vector3d::UnitX(), 10.0);
+  ASSERT_TRUE(side);
+  EXPECT_NEAR(side->point.x(), -1.05, 1e-12) << "the cylinder's side";
+  EXPECT_FALSE(w.castRay({5.0, 5.0, 1.0}, down, 10.0)) << "nothing below";
+  EXPECT_FALSE(w.castRay({0.5, 0.5, 1.0}, down, 0.5)) << "the table is farther than the ray";
+}

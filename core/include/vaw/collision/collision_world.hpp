@@ -151,6 +151,12 @@ class CollisionWorld {
   CollisionWorld(const CollisionWorld&) = delete;
   CollisionWorld& operator=(const CollisionWorld&) = delete;
 
+  // A world over the same geometry (hierarchies, patches, proxies: shared, never rebuilt) with its own
+  // poses and broad phase, starting from this one's poses. Building a world costs hundreds of milliseconds
+  // for a large assembly; an instance costs a copy of per-object indices. Geometry is only read by queries,
+  // so instances may be used from different threads.
+  [[nodiscard]] CollisionWorld instance() const;
+
   [[nodiscard]] std::size_t partCount() const;
   [[nodiscard]] std::size_t environmentCount() const;
   [[nodiscard]] std::optional<PartId> base() const;
@@ -202,10 +208,22 @@ class CollisionWorld {
   // touching-only pairs are ignored unless `countTouching`.
   [[nodiscard]] BlockResult colliding(ObjectId id, const Eigen::Isometry3d& pose, bool countTouching = false) const;
 
+  // The first surface a ray from `origin` along the unit `direction` meets within `length` (m), skipping
+  // `except`: where and what. Exact for meshes (the triangles found by the hierarchy are intersected with
+  // the ray) and for box, sphere and cylinder proxies. For views (the drop line under a held part).
+  struct RayHit {
+    ObjectId object;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();  // world
+    double distance = 0.0;                            // m from origin
+  };
+  [[nodiscard]] std::optional<RayHit> castRay(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                                              double length, std::optional<ObjectId> except = {}) const;
+
   // Centre of mass of a part, part frame (from the assembly).
   [[nodiscard]] Eigen::Vector3d centreOfMass(PartId p) const;
 
  private:
+  CollisionWorld();
   void prepare(Support& s) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
