@@ -224,11 +224,18 @@ class SceneReader {
     json_ = detail::readJsonFile(path_);
     const Node root(json_, "", file_);
     root.requireObject();
-    root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment", "constraints"});
     const Node format = root.get("format");
     if (format.string() != "vaw-scene") format.fail("\"vaw-scene\"");
     const Node version = root.get("version");
-    if (version.integer() != kSceneFormatVersion) version.fail("version " + std::to_string(kSceneFormatVersion) + " (the version this vaw reads)");
+    const int v = version.integer();
+    if (v < 1 || v > kSceneFormatVersion)
+      version.fail("version 1 to " + std::to_string(kSceneFormatVersion) + " (the versions this vaw reads)");
+    if (v >= 2)
+      root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment",
+                      "constraints", "tools"});
+    else
+      root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment",
+                      "constraints"});
 
     assembly_.name = root.get("name").string();
     assembly_.source = path_;
@@ -256,6 +263,7 @@ class SceneReader {
     progress_.report(0.9, "environment");
     if (auto env = root.opt("environment")) readEnvironment(*env);
     if (auto cons = root.opt("constraints")) readConstraints(*cons);
+    if (auto tools = root.opt("tools")) readTools(*tools);
     progress_.report(1.0, "done");
     return std::move(assembly_);
   }
@@ -510,6 +518,36 @@ class SceneReader {
       con.name = c.has("name") ? c.get("name").string() : type + " " + partNode.string();
       checkAtFinalPose(con, c);
       assembly_.constraints.push_back(con);
+    }
+  }
+
+  void readTools(const Node& list) {
+    list.requireArray();
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Node t = list.at(i);
+      t.requireObject();
+      const Node type = t.get("type");
+      if (type.string() != "hoist") type.fail("a tool type: \"hoist\"");
+      t.allowOnly({"type", "name", "position", "reach", "travel", "height"});
+      Hoist h;
+      if (auto n = t.opt("name")) h.name = n->string();
+      if (!names.insert(h.name).second) t.get("name").fail("a name not used by another tool");
+      const Node pos = t.get("position");
+      if (!pos.json().is_array() || pos.size() != 2) pos.fail("[x, y]: where the hoist's vertical line stands");
+      h.position = Eigen::Vector2d(pos.at(0).number(), pos.at(1).number()) * units_.L;
+      if (auto r = t.opt("reach")) h.reach = r->positive() * units_.L;
+      const Node travel = t.get("travel");
+      if (!travel.json().is_array() || travel.size() != 2) travel.fail("[lowest, highest]: the hook's height range");
+      h.lowest = travel.at(0).number() * units_.L;
+      h.highest = travel.at(1).number() * units_.L;
+      if (!(h.highest > h.lowest)) travel.at(1).fail("a height above the lowest (" + std::to_string(h.lowest / units_.L) + ")");
+      h.height = h.highest;
+      if (auto hn = t.opt("height")) {
+        h.height = hn->number() * units_.L;
+        if (h.height < h.lowest || h.height > h.highest) hn->fail("a height within the travel");
+      }
+      assembly_.hoists.push_back(std::move(h));
     }
   }
 

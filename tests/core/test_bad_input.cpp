@@ -101,7 +101,12 @@ std::vector<Case> cases() {
       raw("NaNLiteral", "{\"format\": \"vaw-scene\", \"version\": NaN}", "line 1", "valid JSON"),
       raw("TopLevelNotObject", "[1, 2, 3]", "(top level)", "an object"),
       edit("WrongFormat", [](json& s) { s["format"] = "stl"; }, "format", "\"vaw-scene\""),
-      edit("FutureVersion", [](json& s) { s["version"] = 2; }, "version", "version 1"),
+      edit("FutureVersion", [](json& s) { s["version"] = 3; }, "version", "version 1 to 2"),
+      edit("ToolsNeedVersion2", [](json& s) { s["tools"] = json::array(); }, "tools", "one of the keys"),
+      edit("HoistTravelUpsideDown", [](json& s) {
+             s["version"] = 2;
+             s["tools"] = {{{"type", "hoist"}, {"position", {0, 0}}, {"travel", {500, 100}}}};
+           }, "tools[0].travel[1]", "a height above the lowest"),
       edit("UnknownUnits", [](json& s) { s["units"] = "furlong"; }, "units", "a length unit"),
       edit("UnknownMassUnit", [](json& s) { s["units"] = {{"length", "mm"}, {"mass", "stone"}}; }, "units.mass", "a mass unit"),
       edit("MissingMeshFile", [](json& s) { s["parts"][1]["mesh"] = "nowhere.stl"; }, "parts[1].mesh", "an existing mesh file"),

@@ -74,6 +74,18 @@ struct Constraint {
 };
 std::string_view name(Constraint::Type t);
 
+// A tool that lifts parts too heavy for the hands (docs/scene-format.md, "Tools"): a hook on a vertical
+// line at a fixed (x, y) that rises, lowers and turns about the vertical, and takes a tool-lifted part
+// within its reach.
+struct Hoist {
+  std::string name = "hoist";
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // m, world x, y of the vertical line
+  double reach = 0.05;    // m, from the hook to a part's world bounds
+  double lowest = 0.0;    // m, world z range of the hook
+  double highest = 2.0;
+  double height = 1.0;    // m, where the hook hangs at load
+};
+
 // The scene tree as the file wrote it: groups, parts, environment objects.
 struct TreeNode {
   // MeshNode children of a Part are the nodes of its mesh file (names only; geometry is merged).
@@ -93,6 +105,7 @@ struct Assembly {
   std::optional<PartId> base;
   std::vector<EnvironmentObject> environment;
   std::vector<Constraint> constraints;
+  std::vector<Hoist> hoists;
   TreeNode tree;
   Diagnostics warnings;
   CategorySettings categorySettings;

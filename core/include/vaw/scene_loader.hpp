@@ -17,7 +17,8 @@ struct LoadOptions {
   double massDisagreementWarning = 0.01;
 };
 
-inline constexpr int kSceneFormatVersion = 1;
+// Version 2 adds "tools"; version 1 files still load.
+inline constexpr int kSceneFormatVersion = 2;
 
 Assembly loadScene(const std::filesystem::path& file, const ImporterRegistry& importers,
                    const LoadOptions& options = {}, const ProgressFn& progress = {});
