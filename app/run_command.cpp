@@ -57,18 +57,22 @@ int run(const std::vector<std::string>& args) {
       session.scene = scene;
       session.inputs = sim::loadInputScript(inputs, session.settings);
     }
-    const Assembly assembly = loadAny(resolveScene(session.scene), importers);
+    const auto loaded = sim::Scene::build(loadAny(resolveScene(session.scene), importers));
+    if (replayFile.empty()) session.sceneHash = loaded->contentHash();
+    const Assembly& assembly = loaded->assembly();
     std::vector<sim::TrajectoryRow> rows;
     rows.reserve(session.inputs.size() * assembly.parts.size());
-    const sim::World w = sim::replay(assembly, session, [&rows](const sim::World& world) { sim::appendTrajectory(world, rows); });
+    const sim::World w = sim::replay(loaded, session, [&rows](const sim::World& world) { sim::appendTrajectory(world, rows); });
     std::filesystem::create_directories(out);
     const std::filesystem::path dir(out);
     sim::writeTrajectoriesCsv(w, rows, dir / "trajectories.csv");
     sim::writeTransitionsCsv(w, dir / "transitions.csv");
     sim::saveSession(session, dir / "session.vaw-session.json");
-    std::printf("%zu steps at %g Hz (%.4f s), %zu parts, %zu transitions, %zu refusals, state hash %016llx\n",
+    std::printf("%zu steps at %g Hz (%.4f s), %zu parts, %zu transitions, %zu refusals, %zu edits, state hash %016llx\n",
                 session.inputs.size(), session.settings.rate, w.time(), assembly.parts.size(), w.transitions().size(),
-                w.refusals().size(), static_cast<unsigned long long>(w.stateHash()));
+                w.refusals().size(), w.edits().size(), static_cast<unsigned long long>(w.stateHash()));
+    for (const auto& e : w.edits())
+      std::printf("  t=%8.4f  edit: %s\n", e.t, sim::describe(e.edit, assembly).c_str());
     for (const auto& t : w.transitions())
       std::printf("  t=%8.4f  %-10s %-12s -> %-12s %-24s %s\n", t.t, assembly.parts[t.part].name.c_str(),
                   std::string(interact::name(t.from)).c_str(), std::string(interact::name(t.to)).c_str(),

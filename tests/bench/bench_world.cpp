@@ -78,7 +78,7 @@ std::unique_ptr<vaw::sim::World> flying(vaw::Assembly a, const Eigen::Vector3d& 
   auto w = std::make_unique<vaw::sim::World>(a, s);
   vaw::sim::Input in;
   for (int k = 0; k < 10; ++k) {
-    in.left = {at(flyAt.x() - 0.0001 / 90.0 * k, flyAt.y(), flyAt.z()), true};
+    in.left = {at(flyAt.x() - 0.0001 / 90.0 * k, flyAt.y(), flyAt.z()), true, std::nullopt};
     w->step(in);
   }
   in.left.grab = false;

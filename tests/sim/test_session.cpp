@@ -10,11 +10,12 @@ using namespace vaw;
 using namespace vaw::sim;
 
 TEST(Session, ScriptedSessionReplaysBitForBit) {
-  const Assembly a = simtest::loadBundled("sleeve-on-shaft.vaw.json");
-  Settings settings;
-  const auto inputs = loadInputScript(std::filesystem::path(VAW_SOURCE_DIR) / "tests/sim/scripts/sleeve-turnover.vaw-inputs.json", settings);
-  ASSERT_FALSE(inputs.empty());
-  Session s{"sleeve-on-shaft.vaw.json", settings, inputs};
+  const auto a = Scene::build(simtest::loadBundled("sleeve-on-shaft.vaw.json"));
+  Session s;
+  s.scene = "sleeve-on-shaft.vaw.json";
+  s.sceneHash = a->contentHash();
+  s.inputs = loadInputScript(std::filesystem::path(VAW_SOURCE_DIR) / "tests/sim/scripts/sleeve-turnover.vaw-inputs.json", s.settings);
+  ASSERT_FALSE(s.inputs.empty());
   std::vector<std::uint64_t> hashes;
   const World first = replay(a, s, [&](const World& w) { hashes.push_back(w.stateHash()); });
   ASSERT_GE(first.transitions().size(), 5u) << "the script exercises grab, release, slides and flight";
@@ -68,11 +69,14 @@ TEST(Session, BadScriptNamesTheFileAndField) {
 // The bundled hoist demo script: the hand is refused the 40 kg block, the hoist (placed by "hoist_at")
 // lifts it, the hand-held base comes under it and it is lowered into its final pose.
 TEST(Session, HoistDemoScriptEndsPlaced) {
-  const Assembly a = simtest::loadBundled("hoist-demo.vaw.json");
-  Settings settings;
-  const auto inputs = loadInputScript(std::filesystem::path(VAW_SOURCE_DIR) / "tests/sim/scripts/hoist-demo.vaw-inputs.json", settings);
-  EXPECT_EQ(settings.hoistXY, Eigen::Vector2d(0.5, 0.0));
-  const World w = replay(a, Session{"hoist-demo.vaw.json", settings, inputs});
+  const auto scene = Scene::build(simtest::loadBundled("hoist-demo.vaw.json"));
+  Session s;
+  s.scene = "hoist-demo.vaw.json";
+  s.inputs = loadInputScript(std::filesystem::path(VAW_SOURCE_DIR) / "tests/sim/scripts/hoist-demo.vaw-inputs.json", s.settings);
+  ASSERT_TRUE(s.settings.hoist.has_value());
+  EXPECT_EQ(s.settings.hoist->position, Eigen::Vector2d(0.5, 0.0));
+  const World w = replay(scene, s);
+  const Assembly& a = scene->assembly();
   const PartId block = *a.findPart("block");
   EXPECT_EQ(simtest::join(simtest::transitionNames(w, block)), "tool-attach:ONTOOL reached-final-location:PLACED");
   ASSERT_EQ(w.refusals().size(), 1u);

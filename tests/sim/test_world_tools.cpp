@@ -15,18 +15,16 @@ using simtest::at;
 namespace {
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-Settings hoistSettings() {
-  Settings s;
-  s.hoistXY = {0.5, 0.0};
-  return s;
-}
 }  // namespace
 
 TEST(WorldTools, ToolPartIsRefusedToAHandAndLiftedByTheHoistIntoItsPlace) {
   const Assembly a = simtest::loadBundled("hoist-demo.vaw.json");
   const PartId block = *a.findPart("block");
   ASSERT_EQ(a.parts[block].category.category, Category::Tool) << a.parts[block].category.reason;
-  World w(a, hoistSettings());
+  // The scene declares its hoist (version 2 "tools"): no settings needed.
+  ASSERT_EQ(a.hoists.size(), 1u);
+  EXPECT_EQ(a.hoists[0].position, Eigen::Vector2d(0.5, 0.0));
+  World w(a);
   Input in;
   in.left = simtest::hand(a.parts[block].pose, true);
   w.step(in);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <numbers>
@@ -87,16 +88,58 @@ Eigen::Isometry3d poseFrom(const Node& n) {
   return p;
 }
 
-Json handJson(const HandInput& h) { return Json{{"pose", poseJson(h.pose)}, {"grab", h.grab}}; }
+Json handJson(const HandInput& h) {
+  Json j{{"pose", poseJson(h.pose)}, {"grab", h.grab}};
+  if (h.target) j["target"] = *h.target;
+  return j;
+}
 
-HandInput handFrom(const Node& n) {
-  n.allowOnly({"pose", "grab"});
+bool boolean(const Node& n) {
+  if (!n.json().is_boolean()) n.fail("true or false");
+  return n.json().get<bool>();
+}
+
+PartId partIndex(const Node& n) {
+  const int i = n.integer();
+  if (i < 0) n.fail("a part index (0 or more, in scene order)");
+  return static_cast<PartId>(i);
+}
+
+HandInput handFrom(const Node& n, bool targets) {
+  if (targets) n.allowOnly({"pose", "grab", "target"});
+  else n.allowOnly({"pose", "grab"});
   HandInput h;
   h.pose = poseFrom(n.get("pose"));
-  const Node g = n.get("grab");
-  if (!g.json().is_boolean()) g.fail("true or false");
-  h.grab = g.json().get<bool>();
+  h.grab = boolean(n.get("grab"));
+  if (auto t = n.opt("target")) h.target = partIndex(*t);
   return h;
+}
+
+Json hoistJson(const HoistInput& h) { return Json{{"engaged", h.engaged}, {"height", h.height}, {"yaw", h.yaw}}; }
+
+HoistInput hoistFrom(const Node& h) {
+  h.allowOnly({"engaged", "height", "yaw"});
+  HoistInput out;
+  out.engaged = boolean(h.get("engaged"));
+  out.height = h.get("height").number();
+  out.yaw = h.get("yaw").number();
+  return out;
+}
+
+bool sameHand(const HandInput& a, const HandInput& b) {
+  return a.grab == b.grab && a.target == b.target && a.pose.matrix() == b.pose.matrix();
+}
+bool sameHoist(const HoistInput& a, const HoistInput& b) {
+  return a.engaged == b.engaged && a.height == b.height && a.yaw == b.yaw;
+}
+
+Json frictionJson(const FrictionValues& f) {
+  return Json{{"static", f.staticFriction}, {"kinetic", f.kineticFriction}, {"rotational", f.rotationalFriction}};
+}
+
+FrictionValues frictionFrom(const Node& n) {
+  n.allowOnly({"static", "kinetic", "rotational"});
+  return {n.get("static").number(), n.get("kinetic").number(), n.get("rotational").number()};
 }
 
 const std::map<std::string, dyn::Method>& methods() {
@@ -107,9 +150,85 @@ const std::map<std::string, dyn::Method>& methods() {
   return m;
 }
 
+Json gravityJson(const dyn::GravityScales& g) {
+  return Json{{"free_flight", g.freeFlight}, {"slide", g.slide}, {"rotation", g.rotation}};
+}
+
+dyn::GravityScales gravityFrom(const Node& g) {
+  g.allowOnly({"free_flight", "slide", "rotation"});
+  dyn::GravityScales out;
+  out.freeFlight = g.get("free_flight").nonNegative();
+  out.slide = g.get("slide").nonNegative();
+  out.rotation = g.get("rotation").nonNegative();
+  return out;
+}
+
+dyn::Method methodFrom(const Node& m) {
+  const auto it = methods().find(m.string());
+  if (it == methods().end()) m.fail("paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
+  return it->second;
+}
+
+Json editJson(const EditRecord& r) {
+  Json j{{"step", r.step}};
+  if (const auto* g = std::get_if<GravityEdit>(&r.edit)) {
+    j["type"] = "gravity";
+    j["gravity_scale"] = gravityJson(g->scales);
+  } else if (const auto* m = std::get_if<MaterialFrictionEdit>(&r.edit)) {
+    j["type"] = "material-friction";
+    j["material"] = m->material;
+    j["friction"] = frictionJson(m->friction);
+  } else if (const auto* p = std::get_if<PartFrictionEdit>(&r.edit)) {
+    j["type"] = "part-friction";
+    j["part"] = p->part;
+    j["friction"] = p->friction ? frictionJson(*p->friction) : Json(nullptr);
+  } else if (const auto* me = std::get_if<MethodEdit>(&r.edit)) {
+    j["type"] = "method";
+    j["rotation_method"] = std::string(dyn::name(me->rotation));
+  } else if (const auto* re = std::get_if<RateEdit>(&r.edit)) {
+    j["type"] = "rate";
+    j["rate"] = re->rate;
+  }
+  return j;
+}
+
+EditRecord editFrom(const Node& n) {
+  n.requireObject();
+  EditRecord r;
+  const Node stepNode = n.get("step");
+  const int step = stepNode.integer();
+  if (step < 0) stepNode.fail("a step number (0 or more)");
+  r.step = static_cast<std::uint64_t>(step);
+  const Node type = n.get("type");
+  const std::string t = type.string();
+  if (t == "gravity") {
+    n.allowOnly({"step", "type", "gravity_scale"});
+    r.edit = GravityEdit{gravityFrom(n.get("gravity_scale"))};
+  } else if (t == "material-friction") {
+    n.allowOnly({"step", "type", "material", "friction"});
+    r.edit = MaterialFrictionEdit{n.get("material").string(), frictionFrom(n.get("friction"))};
+  } else if (t == "part-friction") {
+    n.allowOnly({"step", "type", "part", "friction"});
+    PartFrictionEdit e;
+    e.part = partIndex(n.get("part"));
+    const Node f = n.get("friction");
+    if (!f.json().is_null()) e.friction = frictionFrom(f);
+    r.edit = e;
+  } else if (t == "method") {
+    n.allowOnly({"step", "type", "rotation_method"});
+    r.edit = MethodEdit{methodFrom(n.get("rotation_method"))};
+  } else if (t == "rate") {
+    n.allowOnly({"step", "type", "rate"});
+    r.edit = RateEdit{n.get("rate").positive()};
+  } else {
+    type.fail("an edit type: gravity, material-friction, part-friction, method or rate");
+  }
+  return r;
+}
+
 Json settingsJson(const Settings& s) {
-  return Json{{"rate", s.rate},
-              {"gravity_scale", {{"free_flight", s.gravity.freeFlight}, {"slide", s.gravity.slide}, {"rotation", s.gravity.rotation}}},
+  Json j{{"rate", s.rate},
+              {"gravity_scale", gravityJson(s.gravity)},
               {"rotation_method", std::string(dyn::name(s.rotationMethod))},
               {"release", {{"estimator", s.release.estimator == interact::ReleaseEstimator::WindowedFit ? "windowed-fit" : "two-instance"},
                            {"window", s.release.window}}},
@@ -117,21 +236,16 @@ Json settingsJson(const Settings& s) {
               {"place", {{"distance", s.placeDistance}, {"angle", s.placeAngle}}},
               {"grab_reach", s.grabReach},
               {"inertial_forces", s.inertialForces},
-              {"rotation_model_tolerance", s.rotationModelTolerance},
-              {"hoist", {{"x", s.hoistXY.x()}, {"y", s.hoistXY.y()}, {"reach", s.hoistReach}}}};
+              {"rotation_model_tolerance", s.rotationModelTolerance}};
+  if (s.hoist) j["hoist"] = {{"x", s.hoist->position.x()}, {"y", s.hoist->position.y()}, {"reach", s.hoist->reach}};
+  return j;
 }
 
 Settings settingsFrom(const Node& n) {
   Settings s;
   s.rate = n.get("rate").positive();
-  const Node g = n.get("gravity_scale");
-  s.gravity.freeFlight = g.get("free_flight").nonNegative();
-  s.gravity.slide = g.get("slide").nonNegative();
-  s.gravity.rotation = g.get("rotation").nonNegative();
-  const Node m = n.get("rotation_method");
-  const auto it = methods().find(m.string());
-  if (it == methods().end()) m.fail("paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
-  s.rotationMethod = it->second;
+  s.gravity = gravityFrom(n.get("gravity_scale"));
+  s.rotationMethod = methodFrom(n.get("rotation_method"));
   const Node r = n.get("release");
   const Node est = r.get("estimator");
   if (est.string() == "windowed-fit") s.release.estimator = interact::ReleaseEstimator::WindowedFit;
@@ -143,12 +257,12 @@ Settings settingsFrom(const Node& n) {
   s.placeDistance = n.get("place").get("distance").nonNegative();
   s.placeAngle = n.get("place").get("angle").nonNegative();
   s.grabReach = n.get("grab_reach").nonNegative();
-  const Node inertial = n.get("inertial_forces");
-  if (!inertial.json().is_boolean()) inertial.fail("true or false");
-  s.inertialForces = inertial.json().get<bool>();
+  s.inertialForces = boolean(n.get("inertial_forces"));
   s.rotationModelTolerance = n.get("rotation_model_tolerance").positive();
-  s.hoistXY = {n.get("hoist").get("x").number(), n.get("hoist").get("y").number()};
-  s.hoistReach = n.get("hoist").get("reach").nonNegative();
+  if (auto h = n.opt("hoist")) {
+    h->allowOnly({"x", "y", "reach"});
+    s.hoist = HoistPlacement{{h->get("x").number(), h->get("y").number()}, h->get("reach").nonNegative()};
+  }
   return s;
 }
 
@@ -182,7 +296,7 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
   if (auto r = root.opt("rate")) settings.rate = r->positive();
   if (auto ha = root.opt("hoist_at")) {
     if (!ha->json().is_array() || ha->size() != 2) ha->fail("[x, y]: where the hoist's vertical line stands");
-    settings.hoistXY = Eigen::Vector2d(ha->at(0).number(), ha->at(1).number()) * L;
+    settings.hoist = HoistPlacement{Eigen::Vector2d(ha->at(0).number(), ha->at(1).number()) * L, HoistPlacement{}.reach};
   }
   const double duration = root.get("duration").positive();
   const Node keys = root.get("keyframes");
@@ -241,19 +355,26 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
 }
 
 void saveSession(const Session& s, const std::filesystem::path& file) {
+  // Each input lists what changed since the previous step (the first step everything), so an idle
+  // stretch of a long session costs a few bytes a step.
   Json inputs = Json::array();
+  const Input* prev = nullptr;
   for (const Input& in : s.inputs) {
-    Json j{{"left", handJson(in.left)},
-           {"right", handJson(in.right)},
-           {"hoist", {{"engaged", in.hoist.engaged}, {"height", in.hoist.height}, {"yaw", in.hoist.yaw}}}};
+    Json j = Json::object();
+    if (!prev || !sameHand(in.left, prev->left)) j["left"] = handJson(in.left);
+    if (!prev || !sameHand(in.right, prev->right)) j["right"] = handJson(in.right);
+    if (!prev || !sameHoist(in.hoist, prev->hoist)) j["hoist"] = hoistJson(in.hoist);
     if (in.base) j["base"] = poseJson(*in.base);
     inputs.push_back(std::move(j));
+    prev = &in;
   }
-  const Json root{{"format", "vaw-session"},
-                  {"version", kSessionFormatVersion},
-                  {"scene", s.scene},
-                  {"settings", settingsJson(s.settings)},
-                  {"inputs", std::move(inputs)}};
+  Json edits = Json::array();
+  for (const EditRecord& e : s.edits) edits.push_back(editJson(e));
+  Json root{{"format", "vaw-session"}, {"version", kSessionFormatVersion}, {"scene", s.scene}};
+  if (s.sceneHash) root["scene_hash"] = hashText(*s.sceneHash);
+  root["settings"] = settingsJson(s.settings);
+  root["edits"] = std::move(edits);
+  root["inputs"] = std::move(inputs);
   std::ofstream out(file, std::ios::binary);
   if (!out) fail(file.string(), "", "a writable file");
   // nlohmann writes doubles with max_digits10 (round-trip exact).
@@ -266,41 +387,87 @@ Session loadSession(const std::filesystem::path& file) {
   const std::string fileName = file.string();
   const Node root(json, "", fileName);
   root.requireObject();
-  root.allowOnly({"format", "version", "scene", "settings", "inputs"});
   const Node format = root.get("format");
   if (format.string() != "vaw-session") format.fail("\"vaw-session\"");
   const Node version = root.get("version");
-  if (version.integer() != kSessionFormatVersion) version.fail("version " + std::to_string(kSessionFormatVersion));
+  const int v = version.integer();
+  if (v < 1 || v > kSessionFormatVersion)
+    version.fail("version 1 to " + std::to_string(kSessionFormatVersion) + " (the versions this vaw reads)");
+  if (v >= 2) root.allowOnly({"format", "version", "scene", "scene_hash", "settings", "edits", "inputs"});
+  else root.allowOnly({"format", "version", "scene", "settings", "inputs"});
   Session s;
+  s.file = file;
   s.scene = root.get("scene").string();
+  if (auto h = root.opt("scene_hash")) {
+    const std::string text = h->string();
+    char* end = nullptr;
+    const unsigned long long value = std::strtoull(text.c_str(), &end, 16);
+    if (text.size() != 16 || end != text.c_str() + 16) h->fail("16 hexadecimal digits");
+    s.sceneHash = value;
+  }
   s.settings = settingsFrom(root.get("settings"));
   const Node inputs = root.get("inputs");
   inputs.requireArray();
   s.inputs.reserve(inputs.size());
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const Node n = inputs.at(i);
+    n.requireObject();
     n.allowOnly({"left", "right", "base", "hoist"});
-    Input in;
-    in.left = handFrom(n.get("left"));
-    in.right = handFrom(n.get("right"));
+    // Version 2 omits what did not change since the previous step; version 1 writes everything.
+    Input in = s.inputs.empty() ? Input{} : s.inputs.back();
+    in.base.reset();
+    const bool required = v < 2 || i == 0;
+    const auto hand = [&](const char* key, HandInput& h) {
+      if (required || n.has(key)) h = handFrom(n.get(key), v >= 2);
+    };
+    hand("left", in.left);
+    hand("right", in.right);
     if (auto b = n.opt("base")) in.base = poseFrom(*b);
-    const Node h = n.get("hoist");
-    const Node e = h.get("engaged");
-    if (!e.json().is_boolean()) e.fail("true or false");
-    in.hoist.engaged = e.json().get<bool>();
-    in.hoist.height = h.get("height").number();
-    in.hoist.yaw = h.get("yaw").number();
+    if (required || n.has("hoist")) in.hoist = hoistFrom(n.get("hoist"));
     s.inputs.push_back(in);
+  }
+  if (auto edits = root.opt("edits")) {
+    edits->requireArray();
+    for (std::size_t i = 0; i < edits->size(); ++i) {
+      const Node e = edits->at(i);
+      EditRecord r = editFrom(e);
+      if (!s.edits.empty() && r.step < s.edits.back().step) e.get("step").fail("a step not before the previous edit's");
+      if (r.step > s.inputs.size()) e.get("step").fail("a step within the session's " + std::to_string(s.inputs.size()) + " steps");
+      s.edits.push_back(std::move(r));
+    }
   }
   return s;
 }
 
-World replay(const Assembly& assembly, const Session& s, const std::function<void(const World&)>& afterStep) {
-  World w(assembly, s.settings);
+void checkScene(const Session& s, const Scene& scene) {
+  if (!s.sceneHash || *s.sceneHash == scene.contentHash()) return;
+  fail(s.file.empty() ? std::string("session") : s.file.string(), "scene_hash",
+       "the content hash of the scene it was recorded on: " + hashText(*s.sceneHash) +
+           " (the scene file or a file it uses changed since, so a replay would not reproduce it)",
+       hashText(scene.contentHash()) + " for " + scene.assembly().source.string());
+}
+
+std::size_t applyEdits(World& w, const Session& s, std::size_t next) {
+  while (next < s.edits.size() && s.edits[next].step == w.stepCount()) {
+    const std::string problem = w.apply(s.edits[next].edit);
+    if (!problem.empty())
+      fail(s.file.empty() ? std::string("session") : s.file.string(), "edits[" + std::to_string(next) + "]",
+           "an edit this scene accepts", problem);
+    ++next;
+  }
+  return next;
+}
+
+World replay(std::shared_ptr<const Scene> scene, const Session& s, const std::function<void(const World&)>& afterStep) {
+  checkScene(s, *scene);
+  World w(std::move(scene), s.settings);
+  std::size_t edit = 0;
   for (const Input& in : s.inputs) {
+    edit = applyEdits(w, s, edit);
     w.step(in);
     if (afterStep) afterStep(w);
   }
+  applyEdits(w, s, edit);
   return w;
 }
 

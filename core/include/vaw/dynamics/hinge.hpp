@@ -34,6 +34,7 @@ class Hinge {
   [[nodiscard]] double armLength() const { return d_; }      // m, CM to axis
   [[nodiscard]] double mass() const { return m_; }
   [[nodiscard]] double friction() const { return fr_; }      // N m s
+  void setFriction(double rotationalFriction) { fr_ = rotationalFriction; }
   [[nodiscard]] const Eigen::Vector3d& axisInBase() const { return u_; }
 
   // Coefficients of the gravity torque for the base's current orientation (base -> world) and gravity.

@@ -1,9 +1,12 @@
 #pragma once
-// Record and replay (issue 5): a session holds the scene reference, the settings and every step's input,
-// so a fresh World fed the same inputs reproduces every state and transition bit for bit. Also the input
-// script (docs/inputs-format.md: keyframes sampled at the step rate) and the CSV exports.
+// Record and replay: a session holds the scene reference (its path and content hash), the settings, every
+// step's input and every live edit with the step it took effect at, so a fresh World fed the same inputs
+// and edits reproduces every state and transition bit for bit (docs/inputs-format.md). Also the input
+// script (keyframes sampled at the step rate) and the CSV exports.
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,13 +14,18 @@
 
 namespace vaw::sim {
 
-inline constexpr int kSessionFormatVersion = 1;
+// Version 2 adds the scene's content hash, edits, grab targets and inputs written as changes; version 1
+// sessions still load and replay.
+inline constexpr int kSessionFormatVersion = 2;
 inline constexpr int kInputsFormatVersion = 1;
 
 struct Session {
-  std::string scene;       // path of the scene file, as given
+  std::string scene;                     // path of the scene file, as given
+  std::optional<std::uint64_t> sceneHash;  // Scene::contentHash when recorded (absent in version 1)
   Settings settings;
-  std::vector<Input> inputs;  // one per step
+  std::vector<Input> inputs;             // one per step
+  std::vector<EditRecord> edits;         // in step order; an edit at step k is applied before step k runs
+  std::filesystem::path file;            // where it was loaded from (for messages); empty in memory
 };
 
 // Reads an input script (docs/inputs-format.md) and samples it at `settings.rate` (the script's "rate",
@@ -38,8 +46,17 @@ struct TrajectoryRow {
   Eigen::Quaterniond orientation;
 };
 
-// Runs a fresh World over the session's inputs on `assembly`; `afterStep` (optional) sees each step.
-World replay(const Assembly& assembly, const Session& s, const std::function<void(const World&)>& afterStep = {});
+// An InputError (naming the session file and its scene_hash) when the session was recorded on a scene
+// whose content differs from `scene`'s: a replay would not reproduce it.
+void checkScene(const Session& s, const Scene& scene);
+
+// Applies the session's edits recorded for the world's current step (those with step == w.stepCount()),
+// starting at `next`; returns the index of the first edit not applied. An edit the world refuses is an
+// InputError naming the session's file and the edit.
+std::size_t applyEdits(World& w, const Session& s, std::size_t next);
+
+// Runs a fresh World over the session's inputs and edits; `afterStep` (optional) sees each step.
+World replay(std::shared_ptr<const Scene> scene, const Session& s, const std::function<void(const World&)>& afterStep = {});
 
 void appendTrajectory(const World& w, std::vector<TrajectoryRow>& rows);
 void writeTrajectoriesCsv(const World& w, const std::vector<TrajectoryRow>& rows, const std::filesystem::path& file);

@@ -1,11 +1,13 @@
 #pragma once
-// The simulation world (issue 5): joins the part states (interaction/states.hpp), the reduced motion models
-// (dynamics/*) and the collision checks (collision/*) into one deterministic, fixed-step simulation.
+// The simulation world: joins the part states (interaction/states.hpp), the reduced motion models
+// (dynamics/*) and the collision checks (collision/*) into one deterministic, fixed-step simulation
+// (docs/simulation.md).
 //
 // One way for data to flow: an Input per step (hands, the base as held in the left hand, the hoist) goes in
-// through step(); the parts' runtime state, the transition log and the refusals come out. A part's state
-// changes only through interact::fire(), and every accepted transition and every refusal is logged.
-// Nothing reads a clock or global state: the same scene, settings and inputs give bit-identical states.
+// through step(), edits (gravity, friction, method, rate) through apply() between steps; the parts' runtime
+// state, the transition log, the refusals and the edit log come out. A part's state changes only through
+// interact::fire(), and every accepted transition and every refusal is logged. Nothing reads a clock or
+// global state: the same scene, settings, inputs and edits give bit-identical states.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <memory>
@@ -15,11 +17,22 @@
 
 #include "vaw/assembly.hpp"
 #include "vaw/dynamics/gravity.hpp"
+#include "vaw/dynamics/free_flight.hpp"
 #include "vaw/dynamics/integrators.hpp"
+#include "vaw/hash.hpp"
 #include "vaw/interaction/release.hpp"
 #include "vaw/interaction/states.hpp"
+#include "vaw/sim/edit.hpp"
+#include "vaw/sim/scene.hpp"
 
 namespace vaw::sim {
+
+// Where a hoist stands when a session or script places it itself (sessions recorded before scenes could
+// declare their hoist); otherwise the scene's first hoist is used.
+struct HoistPlacement {
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();  // m, world x, y of the hook's vertical line
+  double reach = 0.05;                                 // m, from the hook to the part's world bounds
+};
 
 struct Settings {
   double rate = 90.0;                       // Hz, the fixed step is 1 / rate
@@ -33,9 +46,7 @@ struct Settings {
   double grabReach = 0.05;                  // m: from the hand to the part's world bounds
   bool inertialForces = false;              // the hand-held base's acceleration (off, as in the paper)
   double rotationModelTolerance = 1.0;      // deg: constant-omega flight when its predicted error is below
-  // The hoist (a tool): its hook hangs at a fixed (x, y); it takes a tool part within this reach.
-  Eigen::Vector2d hoistXY = Eigen::Vector2d::Zero();  // m, world
-  double hoistReach = 0.05;                 // m, from the hook to the part's world bounds
+  std::optional<HoistPlacement> hoist;      // none: the scene's hoist (Assembly::hoists)
 
   [[nodiscard]] double step() const { return 1.0 / rate; }
 };
@@ -43,6 +54,9 @@ struct Settings {
 struct HandInput {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // world
   bool grab = false;
+  // The part this hand closes on, when the hand knows it (the desktop's mouse picks it); none: the
+  // nearest grabbable part within reach (tracked hands). Read on the step the grab starts.
+  std::optional<PartId> target;
 };
 
 struct HoistInput {
@@ -95,9 +109,26 @@ struct Refusal {
   std::string reason;
 };
 
+// The whole runtime state of a world at the end of a step (Jolt's SaveState, MuJoCo's mj_getState): parts,
+// models, hands, settings and materials as edited, and the logs up to that step. Immutable and cheap to keep
+// (logs are shared between snapshots), so a recording keeps one every second and seeks from the nearest.
+class Snapshot {
+ public:
+  [[nodiscard]] std::uint64_t step() const;  // steps run before it was taken
+  [[nodiscard]] double time() const;
+  [[nodiscard]] bool valid() const { return state_ != nullptr; }
+
+ private:
+  friend class World;
+  struct State;
+  std::shared_ptr<const State> state_;
+};
+
 class World {
  public:
-  World(const Assembly& assembly, Settings settings = {});
+  explicit World(std::shared_ptr<const Scene> scene, Settings settings = {});
+  // Builds a Scene of its own first (tests and one-off runs).
+  explicit World(const Assembly& assembly, Settings settings = {});
   ~World();
   World(World&&) noexcept;
   World& operator=(World&&) noexcept;
@@ -106,15 +137,43 @@ class World {
 
   void step(const Input& input);
 
+  // Applies an edit before the next step and logs it; refused (nothing changes) when validate() finds it
+  // breaks a rule: the reason is returned, empty on success.
+  [[nodiscard]] std::string apply(const Edit& edit);
+
+  [[nodiscard]] Snapshot snapshot() const;
+  // Puts the world back exactly as it was when `s` was taken (logs included). `s` must come from a world
+  // of the same scene.
+  void restore(const Snapshot& s);
+
   [[nodiscard]] double time() const;
   [[nodiscard]] std::uint64_t stepCount() const;
   [[nodiscard]] const Settings& settings() const;
   [[nodiscard]] const Assembly& assembly() const;
+  [[nodiscard]] const std::shared_ptr<const Scene>& scene() const;
+  // The friction a part slides and turns with now (its override, else its material's, as edited).
+  [[nodiscard]] FrictionValues friction(PartId id) const;
+  [[nodiscard]] FrictionValues materialFriction(const std::string& material) const;
   [[nodiscard]] const std::vector<PartRuntime>& parts() const;
   [[nodiscard]] const PartRuntime& part(PartId id) const;
   [[nodiscard]] Eigen::Isometry3d basePose() const;
   [[nodiscard]] const std::vector<TransitionRecord>& transitions() const;
   [[nodiscard]] const std::vector<Refusal>& refusals() const;
+  [[nodiscard]] const std::vector<EditRecord>& edits() const;
+  // The input of the last step (what the hands and the hoist did), for views.
+  [[nodiscard]] const Input& lastInput() const;
+  // The hoist in use (position and reach) and its hook's frame after the last step; none without a hoist.
+  [[nodiscard]] std::optional<Hoist> hoist() const;
+  [[nodiscard]] std::optional<Eigen::Isometry3d> hookPose() const;
+  // The part each hand (0 left, 1 right) holds, and the part on the hoist.
+  [[nodiscard]] std::optional<PartId> held(int hand) const;
+  [[nodiscard]] std::optional<PartId> onHoist() const;
+  // The free-flight rotation model chosen at release, for a part in flight.
+  [[nodiscard]] std::optional<dyn::RotationModel> flightRotation(PartId id) const;
+  // The first surface straight below `point` (world) within `depth` (m), ignoring part `except`: a point
+  // on a part, the base or an environment object. For views (the drop line under a lifted part).
+  [[nodiscard]] std::optional<Eigen::Vector3d> surfaceBelow(const Eigen::Vector3d& point, double depth,
+                                                            std::optional<PartId> except) const;
   // Parts that cost a model step this step (INHAND, ONTOOL, ONBASESLIDE, INSPACE, and ONBASESTATIC checks).
   [[nodiscard]] std::size_t activeParts() const;
   // FNV-1a over the bytes of every part's state, pose and model coordinates, and the time.
@@ -124,8 +183,5 @@ class World {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
-
-// FNV-1a 64 over raw bytes (exposed for tests).
-std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h = 0xcbf29ce484222325ULL);
 
 }  // namespace vaw::sim

@@ -1,0 +1,286 @@
+// Parts on the base: recognizing a released part's constraint near its mate (or its final pose), and the
+// on-base models: the slide on a plane, the slide and rotation on an axis (ONBASESLIDE), with the touching
+// and blocked checks along each step's motion, and the start test of a part at rest (ONBASESTATIC).
+#include <algorithm>
+
+#include "vaw/collision/time_of_impact.hpp"
+#include "world_impl.hpp"
+
+namespace vaw::sim {
+
+using detail::angleOf;
+using detail::fmt;
+using detail::kDeg;
+using interact::Event;
+using interact::PartState;
+
+namespace {
+
+// Rotates `pose` about the world point `pivot` so that world direction `from` turns onto `to`.
+Eigen::Isometry3d turnAbout(const Eigen::Isometry3d& pose, const Eigen::Vector3d& pivot, const Eigen::Vector3d& from,
+                            const Eigen::Vector3d& to) {
+  const Eigen::Matrix3d r = Eigen::Quaterniond::FromTwoVectors(from, to).toRotationMatrix();
+  Eigen::Isometry3d out = pose;
+  out.linear() = r * pose.linear();
+  out.translation() = pivot + r * (pose.translation() - pivot);
+  return out;
+}
+
+}  // namespace
+
+std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
+  if (!base) return std::nullopt;
+  const Eigen::Isometry3d& P = parts[id].pose;
+  const Eigen::Isometry3d& B = basePose;
+  for (std::size_t ci = 0; ci < assembly.constraints.size(); ++ci) {
+    const Constraint& c = assembly.constraints[ci];
+    if (c.part != id) continue;
+    Recognition rec;
+    rec.constraint = ci;
+    if (c.type == Constraint::Type::Insert) {
+      const Eigen::Vector3d dp = P.linear() * c.partAxis.direction, pp = P * c.partAxis.point;
+      const Eigen::Vector3d db = B.linear() * c.baseAxis.direction, pb = B * c.baseAxis.point;
+      const double dot = dp.dot(db);
+      rec.angle = std::acos(std::clamp(std::abs(dot), 0.0, 1.0));
+      if (rec.angle > settings.recognizeAngle * kDeg) continue;
+      const Eigen::Vector3d target = dot >= 0.0 ? db : Eigen::Vector3d(-db);
+      rec.pose = turnAbout(P, pp, dp, target);
+      const Eigen::Vector3d rel = pp - pb;
+      const Eigen::Vector3d off = rel - db * db.dot(rel);
+      rec.distance = off.norm();
+      if (rec.distance > settings.recognizeDistance) continue;
+      rec.pose.translation() -= off;
+    } else {
+      const Eigen::Vector3d np = P.linear() * c.partPlane.normal, pp = P * c.partPlane.point;
+      const Eigen::Vector3d nb = B.linear() * c.basePlane.normal, pb = B * c.basePlane.point;
+      const Eigen::Vector3d target = c.type == Constraint::Type::Mate ? Eigen::Vector3d(-nb) : nb;
+      rec.angle = std::acos(std::clamp(np.dot(target), -1.0, 1.0));
+      if (rec.angle > settings.recognizeAngle * kDeg) continue;
+      rec.pose = turnAbout(P, pp, np, target);
+      const double d = nb.dot(pp - pb) - c.offset;
+      rec.distance = std::abs(d);
+      if (rec.distance > settings.recognizeDistance) continue;
+      rec.pose.translation() -= nb * d;
+    }
+    const collision::Support& s = scene->support(ci);
+    if (!s.problem.empty()) continue;
+    if (!collision.touching(s, rec.pose).touching) continue;
+    return rec;
+  }
+  return std::nullopt;
+}
+
+bool World::Impl::atFinalPose(PartId id, Eigen::Isometry3d& snapped) const {
+  const Part& d = def(id);
+  if (!base || !d.finalPose) return false;
+  const Eigen::Isometry3d finalInBase = baseLoad.inverse() * *d.finalPose;
+  const Eigen::Isometry3d nowInBase = basePose.inverse() * parts[id].pose;
+  const double dist = (finalInBase.translation() - nowInBase.translation()).norm();
+  const double ang = angleOf(finalInBase.linear().transpose() * nowInBase.linear());
+  if (dist > settings.placeDistance || ang > settings.placeAngle * kDeg) return false;
+  snapped = basePose * finalInBase;
+  return true;
+}
+
+void World::Impl::enterOnBase(PartId id, std::size_t ci) {
+  PartRuntime& r = parts[id];
+  PartModel& m = models[id];
+  const Constraint& c = assembly.constraints[ci];
+  const Part& d = def(id);
+  r.constraint = ci;
+  r.angle = r.omega = r.slide = r.slideRate = 0.0;
+  r.planeP.setZero();
+  r.planeV.setZero();
+  r.velocity.setZero();
+  r.angularVelocity.setZero();
+  m.sliding = false;
+  m.blockedDir.setZero();
+  m.blockedRot = 0.0;
+  m.inBase = basePose.inverse() * r.pose;
+  if (c.type == Constraint::Type::Insert) {
+    m.hinge = dyn::Hinge::make(c.baseAxis.point, c.baseAxis.direction, m.inBase, d.mass.mass, d.mass.centerOfMass,
+                               d.mass.inertiaCm, friction(id).rotationalFriction);
+    r.model = m.hinge ? Model::Cylindrical : Model::None;
+    m.radius = collision.maxRadius(collision::ObjectId::part(id), c.partAxis);
+  } else {
+    m.hinge.reset();
+    r.model = Model::Plane;
+    const dyn::PlaneSlideInput in = dyn::planeInWorld(c.basePlane.normal, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero());
+    m.nb = in.n;
+    m.e1b = in.e1;
+    m.e2b = in.e2;
+  }
+}
+
+// Advances the on-base model of `id` by one step from its current coordinates; handles the events.
+void World::Impl::stepOnBase(PartId id) {
+  flush(id);
+  PartRuntime& r = parts[id];
+  PartModel& m = models[id];
+  const dyn::Friction fr = slideFriction(id);
+  const collision::Support& sup = scene->support(*r.constraint);
+  const Eigen::Isometry3d B = basePose;
+  double a0 = r.angle, s0 = r.slide, a1 = a0, s1 = s0, w1 = r.omega, sv1 = r.slideRate;
+  Eigen::Vector2d p0 = r.planeP, p1 = p0, pv1 = r.planeV;
+  dyn::SlideEvent slideEvent = dyn::SlideEvent::None;
+  bool rotationAtRest = true;
+  if (r.model == Model::Cylindrical) {
+    const dyn::HingeTorque tq = m.hinge->torque(B.linear(), gravity(settings.gravity.rotation));
+    dyn::HingeState hs{a0, r.omega};
+    m.hinge->step(hs, tq, h(), settings.rotationMethod);
+    a1 = hs.angle;
+    w1 = hs.omega;
+    dyn::AxisSlideState ss{s0, r.slideRate, m.sliding};
+    dyn::AxisSlideInput in;
+    in.u = B.linear() * m.hinge->axisInBase();
+    in.g = gravity(settings.gravity.slide);
+    slideEvent = dyn::stepAxisSlide(ss, in, fr, h(), dyn::Method::Exact).event;
+    s1 = ss.s;
+    sv1 = ss.v;
+    m.sliding = ss.moving;
+    const double tau = tq.A * std::cos(a1) + tq.B * std::sin(a1);
+    rotationAtRest = std::abs(w1) < 1e-3 && std::abs(tau) <= torqueEps(id);
+  } else {
+    const dyn::PlaneSlideInput in = dyn::planeInWorld(m.nb, B, gravity(settings.gravity.slide));
+    dyn::PlaneSlideState ps{p0, r.planeV, m.sliding};
+    slideEvent = dyn::stepPlaneSlide(ps, in, fr, h(), dyn::Method::Exact).event;
+    if (slideEvent == dyn::SlideEvent::LostContact) {
+      leaveBase(id, Eigen::Vector3d::Zero(), "gravity pulls it off the surface");
+      return;
+    }
+    p1 = ps.p;
+    pv1 = ps.v;
+    m.sliding = ps.moving;
+  }
+  // The two collision checks along the step's motion.
+  const double travel = std::abs(s1 - s0) + std::abs(a1 - a0) * m.radius + (p1 - p0).norm();
+  collision::MotionEvent ev;
+  ev.kind = collision::EventKind::None;
+  ev.s = 1.0;
+  if (travel > 1e-12) {
+    collision::Motion motion;
+    motion.s0 = 0.0;
+    motion.s1 = 1.0;
+    motion.speedBound = travel;
+    motion.pose = [this, id, B, a0, a1, s0, s1, p0, p1](double x) {
+      return B * inBaseOf(id, a0 + x * (a1 - a0), s0 + x * (s1 - s0), p0 + x * (p1 - p0));
+    };
+    ev = collision::firstEventOnBase(collision, sup, motion);
+  }
+  const double x = ev.kind == collision::EventKind::None ? 1.0 : ev.s;
+  r.angle = a0 + x * (a1 - a0);
+  r.slide = s0 + x * (s1 - s0);
+  r.planeP = p0 + x * (p1 - p0);
+  r.omega = w1;
+  r.slideRate = sv1;
+  r.planeV = pv1;
+  setPose(id, B * currentInBase(id));
+  // World velocity of the CM and angular velocity (for a hand-over to free flight).
+  Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
+  if (r.model == Model::Cylindrical) {
+    const Eigen::Vector3d u = B.linear() * m.hinge->axisInBase();
+    const Eigen::Vector3d arm = comWorld(id) - B * assembly.constraints[*r.constraint].baseAxis.point;
+    w = u * r.omega;
+    v = u * r.slideRate + w.cross(arm - u * u.dot(arm));
+  } else {
+    const dyn::PlaneSlideInput in = dyn::planeInWorld(m.nb, B, Eigen::Vector3d::Zero());
+    v = in.e1 * r.planeV.x() + in.e2 * r.planeV.y();
+  }
+  r.velocity = v;
+  r.angularVelocity = w;
+  if (ev.kind == collision::EventKind::Blocked) {
+    Eigen::Vector3d dirBase = Eigen::Vector3d::Zero();
+    if (r.model == Model::Cylindrical) {
+      dirBase = m.hinge->axisInBase() * (s1 - s0);
+    } else {
+      dirBase = m.e1b * (p1 - p0).x() + m.e2b * (p1 - p0).y();
+    }
+    m.blockedDir = dirBase.norm() > 0.0 ? Eigen::Vector3d(dirBase.normalized()) : Eigen::Vector3d::Zero();
+    m.blockedRot = (a1 - a0) > 0.0 ? 1.0 : ((a1 - a0) < 0.0 ? -1.0 : 0.0);
+    r.omega = r.slideRate = 0.0;
+    r.planeV.setZero();
+    r.velocity.setZero();
+    r.angularVelocity.setZero();
+    m.sliding = false;
+    fireEvent(id, Event::Blocked, interact::Hands::None,
+              "blocked by " + objectName(ev.other) + fmt(" after %.6f of the step", x));
+    return;
+  }
+  if (ev.kind == collision::EventKind::LostTouch) {
+    leaveBase(id, v, "lost touch: " + ev.touch.reason + fmt(" (margin %.6f m)", ev.touch.margin), w);
+    return;
+  }
+  if (slideEvent == dyn::SlideEvent::Stopped && rotationAtRest) {
+    r.omega = r.slideRate = 0.0;
+    r.planeV.setZero();
+    r.velocity.setZero();
+    r.angularVelocity.setZero();
+    fireEvent(id, Event::Stopped, interact::Hands::None, "kinetic friction stopped it");
+  } else if (r.model == Model::Cylindrical && !m.sliding && rotationAtRest) {
+    r.omega = 0.0;
+    r.velocity.setZero();
+    r.angularVelocity.setZero();
+    fireEvent(id, Event::Stopped, interact::Hands::None, "rotation came to rest");
+  }
+}
+
+void World::Impl::leaveBase(PartId id, const Eigen::Vector3d& v, const std::string& cause, const Eigen::Vector3d& w) {
+  if (fireEvent(id, Event::LostContact, interact::Hands::None, cause)) enterFlight(id, v, w, endOfStep());
+}
+
+// ONBASESTATIC: moves with the base; starts when gravity beats static friction (not into the obstacle
+// that last blocked it).
+void World::Impl::checkStart(PartId id) {
+  PartRuntime& r = parts[id];
+  PartModel& m = models[id];
+  setPose(id, basePose * currentInBase(id));
+  if (r.model == Model::None || !r.constraint) return;
+  const dyn::Friction fr = slideFriction(id);
+  bool starts = false;
+  Eigen::Vector3d dirBase = Eigen::Vector3d::Zero();
+  double rotSign = 0.0;
+  Eigen::Vector3d normalWorld = Eigen::Vector3d::UnitZ();
+  if (r.model == Model::Cylindrical) {
+    const Eigen::Vector3d u = basePose.linear() * m.hinge->axisInBase();
+    normalWorld = u;
+    const dyn::HingeTorque tq = m.hinge->torque(basePose.linear(), gravity(settings.gravity.rotation));
+    const double tau = tq.A * std::cos(r.angle) + tq.B * std::sin(r.angle);
+    if (std::abs(tau) > torqueEps(id)) {
+      starts = true;
+      rotSign = tau > 0.0 ? 1.0 : -1.0;
+    }
+    const dyn::AxisGravity gr = dyn::splitGravity(u, gravity(settings.gravity.slide));
+    if (std::abs(gr.along) > fr.fs * gr.normal) {
+      starts = true;
+      dirBase = m.hinge->axisInBase() * (gr.along > 0.0 ? 1.0 : -1.0);
+    }
+  } else {
+    dyn::PlaneSlideInput in = dyn::planeInWorld(m.nb, basePose, gravity(settings.gravity.slide));
+    normalWorld = in.n;
+    dyn::PlaneSlideState ps{r.planeP, Eigen::Vector2d::Zero(), false};
+    const dyn::SlideEvent e = dyn::stepPlaneSlide(ps, in, fr, h(), dyn::Method::Exact).event;
+    if (e == dyn::SlideEvent::LostContact) {
+      if (fireEvent(id, Event::StaticFrictionOvercome, interact::Hands::None, "gravity pulls it off the surface"))
+        leaveBase(id, Eigen::Vector3d::Zero(), "gravity pulls it off the surface");
+      return;
+    }
+    if (e == dyn::SlideEvent::Started) {
+      starts = true;
+      const Eigen::Vector2d d = ps.p - r.planeP;
+      dirBase = m.e1b * d.x() + m.e2b * d.y();
+    }
+  }
+  if (!starts) return;
+  // Into the obstacle that blocked it last: stays (a rotation away from it, or a slide away, may go).
+  const bool slideInto = dirBase.norm() > 0.0 && m.blockedDir.dot(dirBase.normalized()) > 1e-9;
+  const bool rotInto = rotSign != 0.0 && rotSign == m.blockedRot;
+  const bool slideFree = dirBase.norm() > 0.0 && !slideInto;
+  const bool rotFree = rotSign != 0.0 && !rotInto;
+  if (!slideFree && !rotFree) return;
+  if (!fireEvent(id, Event::StaticFrictionOvercome, interact::Hands::None, tiltCause(normalWorld))) return;
+  if (slideFree) m.blockedDir.setZero();
+  if (rotFree) m.blockedRot = 0.0;
+  stepOnBase(id);
+}
+
+}  // namespace vaw::sim
