@@ -40,9 +40,13 @@ std::uint64_t hashOf(const Assembly& a) {
   for (const EnvironmentObject& e : a.environment) h = add(add(add(h, e.name), e.mesh.get()), e.pose);
   for (const Constraint& c : a.constraints) {
     h = add(add(h, static_cast<double>(c.type)), static_cast<double>(c.part));
-    for (const Plane* pl : {&c.partPlane, &c.basePlane}) h = add(add(h, pl->point), pl->normal);
-    for (const Axis* ax : {&c.partAxis, &c.baseAxis}) h = add(add(h, ax->point), ax->direction);
-    h = add(h, c.offset);
+    // Only the geometry of the constraint's type: the other members are never set (nor read).
+    if (c.type == Constraint::Type::Insert) {
+      for (const Axis* ax : {&c.partAxis, &c.baseAxis}) h = add(add(h, ax->point), ax->direction);
+    } else {
+      for (const Plane* pl : {&c.partPlane, &c.basePlane}) h = add(add(h, pl->point), pl->normal);
+      h = add(h, c.offset);
+    }
   }
   return h;
 }
