@@ -492,20 +492,26 @@ void writeTrajectoriesCsv(const World& w, const std::vector<TrajectoryRow>& rows
 }
 
 void writeTransitionsCsv(const World& w, const std::filesystem::path& file) {
+  writeTransitionsCsv(w.assembly(), w.transitions(), w.refusals(), file);
+}
+
+void writeTransitionsCsv(const Assembly& assembly, const std::vector<TransitionRecord>& transitions,
+                         const std::vector<Refusal>& refusals, const std::filesystem::path& file) {
   std::ofstream out(file, std::ios::binary);
   if (!out) fail(file.string(), "", "a writable file");
   out << "step,t,part,from,to,event,cause\n";
   char buf[128];
-  for (const TransitionRecord& r : w.transitions()) {
+  for (const TransitionRecord& r : transitions) {
     std::snprintf(buf, sizeof buf, "%llu,%.17g,", static_cast<unsigned long long>(r.step), r.t);
-    out << buf << csvEscape(w.assembly().parts[r.part].name) << ',' << interact::name(r.from) << ','
+    out << buf << csvEscape(assembly.parts[r.part].name) << ',' << interact::name(r.from) << ','
         << interact::name(r.to) << ',' << interact::name(r.event) << ',' << csvEscape(r.cause) << '\n';
   }
-  for (const Refusal& r : w.refusals()) {
+  for (const Refusal& r : refusals) {
     std::snprintf(buf, sizeof buf, "%llu,%.17g,", static_cast<unsigned long long>(r.step), r.t);
-    out << buf << csvEscape(w.assembly().parts[r.part].name) << ',' << interact::name(r.state) << ",REFUSED,"
+    out << buf << csvEscape(assembly.parts[r.part].name) << ',' << interact::name(r.state) << ",REFUSED,"
         << interact::name(r.event) << ',' << csvEscape(r.reason) << '\n';
   }
+  if (!out) fail(file.string(), "", "a writable file (write failed)");
 }
 
 }  // namespace vaw::sim

@@ -326,6 +326,10 @@ std::optional<Hoist> World::hoist() const { return impl_->hoistTool; }
 std::optional<Eigen::Isometry3d> World::hookPose() const { return impl_->hook; }
 std::optional<PartId> World::held(int hand) const { return impl_->held[hand == 0 ? 0 : 1]; }
 std::optional<PartId> World::onHoist() const { return impl_->onHoist; }
+std::optional<interact::Twist> World::releaseVelocity(PartId id) const {
+  if (impl_->parts.at(id).state != PartState::InHand) return std::nullopt;
+  return interact::releaseVelocity(impl_->models[id].history, impl_->settings.release);
+}
 std::optional<dyn::RotationModel> World::flightRotation(PartId id) const {
   if (impl_->parts.at(id).model != Model::Free) return std::nullopt;
   return impl_->models[id].rotation;

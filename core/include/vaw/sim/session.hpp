@@ -61,5 +61,8 @@ World replay(std::shared_ptr<const Scene> scene, const Session& s, const std::fu
 void appendTrajectory(const World& w, std::vector<TrajectoryRow>& rows);
 void writeTrajectoriesCsv(const World& w, const std::vector<TrajectoryRow>& rows, const std::filesystem::path& file);
 void writeTransitionsCsv(const World& w, const std::filesystem::path& file);
+// The same columns from logs kept elsewhere (a recording's whole timeline).
+void writeTransitionsCsv(const Assembly& assembly, const std::vector<TransitionRecord>& transitions,
+                         const std::vector<Refusal>& refusals, const std::filesystem::path& file);
 
 }  // namespace vaw::sim

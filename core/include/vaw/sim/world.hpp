@@ -168,6 +168,8 @@ class World {
   // The part each hand (0 left, 1 right) holds, and the part on the hoist.
   [[nodiscard]] std::optional<PartId> held(int hand) const;
   [[nodiscard]] std::optional<PartId> onHoist() const;
+  // What the release estimator would give for a held part if it were let go now.
+  [[nodiscard]] std::optional<interact::Twist> releaseVelocity(PartId id) const;
   // The free-flight rotation model chosen at release, for a part in flight.
   [[nodiscard]] std::optional<dyn::RotationModel> flightRotation(PartId id) const;
   // The first surface straight below `point` (world) within `depth` (m), ignoring part `except`: a point
