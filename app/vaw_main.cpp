@@ -1,6 +1,7 @@
 // vaw: the Virtual Assembly Workbench GUI.
-//   vaw [SCENE_OR_MESH] [--select PART] [--screenshot FILE] [--size WxH]
-// Without a file it opens the bundled default scene (vaw::defaultScenePath()).
+//   vaw [SCENE_OR_MESH_OR_SESSION] [--select PART] [--at SECONDS] [--screenshot FILE] [--size WxH]
+// Without a file it opens the bundled default scene (vaw::defaultScenePath()). A session
+// (*.vaw-session.json) opens paused at its start, or at --at SECONDS, ready to play back.
 #include <Qt3DRender/QRenderCapture>
 #include <QApplication>
 #include <QCommandLineParser>
@@ -17,6 +18,7 @@
 #include "vaw/paths.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/main_window.hpp"
+#include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
 
 namespace {
@@ -63,8 +65,9 @@ int main(int argc, char** argv) {
   parser.setApplicationDescription(QStringLiteral("Virtual Assembly Workbench"));
   parser.addHelpOption();
   parser.addPositionalArgument(QStringLiteral("file"),
-                               QStringLiteral("Scene (.vaw.json) or mesh file to open; default: the bundled demo."),
-                               QStringLiteral("[SCENE_OR_MESH]"));
+                               QStringLiteral("Scene (.vaw.json), mesh or recorded session (.vaw-session.json) to open; "
+                                              "default: the bundled demo."),
+                               QStringLiteral("[SCENE_OR_MESH_OR_SESSION]"));
   const QCommandLineOption screenshotOption(
       QStringLiteral("screenshot"),
       QStringLiteral("Open the file, wait until the viewport has rendered, save a PNG of the window to FILE and quit."),
@@ -74,6 +77,10 @@ int main(int argc, char** argv) {
   const QCommandLineOption selectOption(QStringLiteral("select"),
                                         QStringLiteral("Select the part named PART once the file is open."),
                                         QStringLiteral("PART"));
+  const QCommandLineOption atOption(
+      QStringLiteral("at"), QStringLiteral("Show a recorded session at this time (s) instead of its start."),
+      QStringLiteral("SECONDS"));
+  parser.addOption(atOption);
   parser.addOption(screenshotOption);
   parser.addOption(sizeOption);
   parser.addOption(selectOption);
@@ -95,11 +102,31 @@ int main(int argc, char** argv) {
     size = QSize(match.captured(1).toInt(), match.captured(2).toInt());
   }
 
+  double at = -1.0;
+  if (parser.isSet(atOption)) {
+    bool ok = false;
+    at = parser.value(atOption).toDouble(&ok);
+    if (!ok || !(at >= 0.0)) {
+      std::fprintf(stderr, "vaw: --at expects a time in seconds, 0 or more\n");
+      return 2;
+    }
+  }
+
   vaw::ui::AssemblyController controller;
   vaw::ui::MainWindow window(controller);
+  // A screenshot shows the scene as opened (or the session at --at), not whatever ran in between.
+  if (parser.isSet(screenshotOption)) window.setAutoPlay(false);
   window.resize(size);
   window.show();
 
+  if (at >= 0.0) {
+    QObject::connect(&controller, &vaw::ui::AssemblyController::assemblyLoaded, &window, [&window, at] {
+      vaw::ui::SimulationController& sim = window.simulation();
+      if (!sim.isPlayback() && sim.recorder().length() == 0)
+        std::fprintf(stderr, "vaw: --at applies to a recorded session; showing the scene as loaded\n");
+      sim.seek(sim.recorder().stepAt(at));
+    });
+  }
   if (parser.isSet(selectOption)) {
     const std::string part = parser.value(selectOption).toStdString();
     QObject::connect(&controller, &vaw::ui::AssemblyController::assemblyLoaded, &window, [&controller, &window, part] {

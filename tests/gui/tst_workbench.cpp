@@ -25,6 +25,7 @@
 #include <optional>
 #include <string>
 
+#include "gui_test_support.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/ui/assembly_controller.hpp"
@@ -42,25 +43,6 @@ using vaw::ui::MainWindow;
 
 namespace {
 
-// Warnings that say nothing about vaw. Each needs a reason.
-const QRegularExpression kAllowedWarnings[] = {
-    // xvfb-run starts no login session, so there is no runtime directory; Qt falls back to /tmp.
-    QRegularExpression(QStringLiteral("^QStandardPaths: XDG_RUNTIME_DIR not set")),
-    QRegularExpression(QStringLiteral("^QStandardPaths: runtime directory .* permissions")),
-};
-
-QStringList g_unexpectedWarnings;
-QtMessageHandler g_previousHandler = nullptr;
-
-void failOnWarnings(QtMsgType type, const QMessageLogContext& context, const QString& message) {
-  if (type == QtWarningMsg || type == QtCriticalMsg) {
-    bool allowed = false;
-    for (const auto& re : kAllowedWarnings) allowed = allowed || re.match(message).hasMatch();
-    if (!allowed) g_unexpectedWarnings << message;
-  }
-  if (g_previousHandler != nullptr) g_previousHandler(type, context, message);
-}
-
 QString str(std::optional<PartId> id) {
   return id ? QString::number(static_cast<qulonglong>(*id)) : QStringLiteral("none");
 }
@@ -72,9 +54,7 @@ bool levelHorizon(const Qt3DRender::QCamera* camera) {
   return std::abs(right.z()) < 1e-4f && QVector3D::crossProduct(right, view).z() > 0.0f;
 }
 
-bool differs(QRgb a, QRgb b, int tolerance) {
-  return std::abs(qRed(a) - qRed(b)) + std::abs(qGreen(a) - qGreen(b)) + std::abs(qBlue(a) - qBlue(b)) > tolerance;
-}
+using vaw::guitest::differs;
 
 }  // namespace
 
@@ -120,7 +100,7 @@ class TestWorkbench : public QObject {
 };
 
 void TestWorkbench::initTestCase() {
-  g_previousHandler = qInstallMessageHandler(failOnWarnings);
+  vaw::guitest::failOnWarnings();
 
   controller_ = std::make_unique<AssemblyController>();
   QVERIFY2(!controller_->importers().importerNames().empty(),
@@ -147,12 +127,12 @@ void TestWorkbench::initTestCase() {
   controller_->open(path);
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
   QCOMPARE(failed.count(), 0);
-  QVERIFY2(g_unexpectedWarnings.isEmpty(), qPrintable(g_unexpectedWarnings.join(QLatin1Char('\n'))));
+  const QStringList warnings = vaw::guitest::takeWarnings();
+  QVERIFY2(warnings.isEmpty(), qPrintable(warnings.join(QLatin1Char('\n'))));
 }
 
 void TestWorkbench::cleanup() {
-  const QStringList warnings = g_unexpectedWarnings;
-  g_unexpectedWarnings.clear();
+  const QStringList warnings = vaw::guitest::takeWarnings();
   QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") +
                                           warnings.join(QLatin1Char('\n'))));
 }
@@ -161,52 +141,17 @@ void TestWorkbench::cleanupTestCase() {
   testers_.clear();
   window_.reset();
   controller_.reset();
-  qInstallMessageHandler(g_previousHandler);
+  vaw::guitest::restoreMessageHandler();
 }
 
-QImage TestWorkbench::capture() {
-  std::unique_ptr<Qt3DRender::QRenderCaptureReply> reply(viewport()->renderCapture()->requestCapture());
-  if (!reply->isComplete()) {
-    QSignalSpy completed(reply.get(), &Qt3DRender::QRenderCaptureReply::completed);
-    if (!completed.wait(20000) && !reply->isComplete()) return {};
-  }
-  return reply->image();
-}
+QImage TestWorkbench::capture() { return vaw::guitest::capture(viewport()); }
 
 double TestWorkbench::nonBackgroundFraction(const QImage& image) const {
-  const QRgb background = viewport()->clearColor().rgb();
-  qsizetype different = 0;
-  for (int y = 0; y < image.height(); ++y) {
-    for (int x = 0; x < image.width(); ++x) different += differs(image.pixel(x, y), background, 6) ? 1 : 0;
-  }
-  return image.isNull() ? 0.0 : static_cast<double>(different) / (static_cast<double>(image.width()) * image.height());
+  return vaw::guitest::nonBackgroundFraction(viewport(), image);
 }
 
-// A window point where the viewport shows `part`: the projection of the centre of its world bounds,
-// or, when something else is in front of that (a tube's hole), the nearest point of a grid over them.
 QPoint TestWorkbench::pointOnPart(PartId id) {
-  // The ray caster works on Qt3D's backend copy of the camera: let a frame render so that it has
-  // caught up with the latest camera change.
-  if (capture().isNull()) return {-1, -1};
-  const vaw::Part& part = assembly().parts[id];
-  Eigen::AlignedBox3d box;
-  const Eigen::AlignedBox3d local = part.mesh->bounds();
-  for (int c = 0; c < 8; ++c) box.extend(part.pose * local.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
-  const QRect area(QPoint(0, 0), viewport()->view3d()->size());
-  const QPoint centre = viewport()->projectToWindow(box.center()).toPoint();
-  if (area.contains(centre) && viewport()->partAt(centre) == id) return centre;
-  QPoint best(-1, -1);
-  for (int i = 1; i < 8; ++i) {
-    for (int j = 1; j < 8; ++j) {
-      for (int k = 1; k < 8; ++k) {
-        const Eigen::Vector3d f(i / 8.0, j / 8.0, k / 8.0);
-        const QPoint p = viewport()->projectToWindow(box.min() + f.cwiseProduct(box.sizes())).toPoint();
-        if (!area.contains(p) || viewport()->partAt(p) != id) continue;
-        if (best.x() < 0 || (p - centre).manhattanLength() < (best - centre).manhattanLength()) best = p;
-      }
-    }
-  }
-  return best;
+  return vaw::guitest::pointOnPart(viewport(), assembly(), id, assembly().parts[id].pose);
 }
 
 void TestWorkbench::opensDefaultAssembly() {

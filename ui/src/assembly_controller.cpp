@@ -9,6 +9,7 @@
 #include <string>
 
 #include "vaw/error.hpp"
+#include "vaw/paths.hpp"
 
 namespace vaw::ui {
 
@@ -18,6 +19,18 @@ QString fromStd(const std::string& s) { return QString::fromStdString(s); }
 
 std::filesystem::path toPath(const QString& path) {
   return std::filesystem::path(QFile::encodeName(path).toStdString());
+}
+
+// A session names its scene as it was given when recording: a path (absolute, or relative to where vaw
+// ran or to the session's folder) or a bundled scene's name.
+std::filesystem::path sessionScene(const vaw::sim::Session& s, const std::filesystem::path& sessionFile) {
+  const std::filesystem::path named(s.scene);
+  for (const auto& candidate : {named, sessionFile.parent_path() / named, vaw::resourceDir() / "scenes" / named})
+    if (std::filesystem::is_regular_file(candidate)) return candidate;
+  vaw::fail(sessionFile.string(), "scene",
+            "a scene file at that path, next to the session, or among the bundled scenes (" +
+                (vaw::resourceDir() / "scenes").string() + ")",
+            s.scene);
 }
 
 }  // namespace
@@ -54,6 +67,17 @@ AssemblyController::~AssemblyController() {
   if (cancel_) cancel_->store(true);
   watcher_.disconnect(this);
   watcher_.waitForFinished();
+}
+
+const std::vector<vaw::collision::ObjectInfo>& AssemblyController::collisionInfo() const {
+  static const std::vector<vaw::collision::ObjectInfo> none;
+  return scene_ ? scene_->collisionInfo() : none;
+}
+
+std::optional<vaw::sim::Session> AssemblyController::takeSession() {
+  std::optional<vaw::sim::Session> s = std::move(session_);
+  session_.reset();
+  return s;
 }
 
 void AssemblyController::setLoader(Loader loader) {
@@ -134,13 +158,18 @@ AssemblyController::Outcome AssemblyController::runLoad(const QString& path, con
     }
   };
   try {
-    out.assembly = std::make_shared<vaw::Assembly>(loader(toPath(path), registry_, options, progressFn));
-    // The collision geometry (hierarchies, surface patches, proxies) is built once per load; its
-    // problems join the load's warnings.
-    progressFn(1.0, "collision geometry");
-    const vaw::collision::CollisionWorld world(*out.assembly);
-    for (const auto& id : world.objects()) out.collision.push_back(world.info(id));
-    for (const auto& d : world.diagnostics()) out.assembly->warnings.push_back(d);
+    std::filesystem::path file = toPath(path);
+    out.sceneReference = path;
+    if (path.endsWith(QStringLiteral(".vaw-session.json"))) {
+      out.session = vaw::sim::loadSession(file);
+      file = sessionScene(*out.session, file);
+      out.sceneReference = QString::fromStdString(out.session->scene);
+    }
+    out.scenePath = QFile::decodeName(file.string().c_str());
+    // The collision geometry (hierarchies, surface patches, proxies) is built once per load, here, and
+    // shared by everything that needs it; its problems join the load's warnings.
+    out.scene = vaw::sim::Scene::build(loader(file, registry_, options, progressFn), progressFn);
+    if (out.session) vaw::sim::checkScene(*out.session, *out.scene);
   } catch (const vaw::LoadCancelled&) {
     out.cancelled = true;
   } catch (const vaw::InputError& e) {
@@ -163,7 +192,8 @@ AssemblyController::Outcome AssemblyController::runLoad(const QString& path, con
     fail(std::move(f));
   }
   if (cancel->load()) {  // the user cancelled: whatever came back is discarded
-    out.assembly.reset();
+    out.scene.reset();
+    out.session.reset();
     out.failure.reset();
     out.cancelled = true;
   }
@@ -174,10 +204,11 @@ void AssemblyController::finished() {
   Outcome out = watcher_.result();
   const QString path = loadingPath_;
   loadingPath_.clear();
-  if (out.assembly) {
-    assembly_ = std::make_unique<vaw::Assembly>(std::move(*out.assembly));
-    collisionInfo_ = std::move(out.collision);
-    currentPath_ = QFileInfo(path).absoluteFilePath();
+  if (out.scene) {
+    scene_ = std::move(out.scene);
+    session_ = std::move(out.session);
+    currentPath_ = QFileInfo(out.scenePath).absoluteFilePath();
+    sceneReference_ = out.sceneReference;
     emit assemblyLoaded();
   } else if (out.failure) {
     emit loadFailed(*out.failure);

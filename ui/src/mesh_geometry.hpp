@@ -1,12 +1,12 @@
 #pragma once
-// Turns a vaw::TriMesh into a Qt3D geometry renderer, synchronously (QMesh loads asynchronously).
-// Flat shading: every triangle gets its own three vertices carrying the face normal.
+// Uploads a core view::MeshBuffer (flat-shaded, position and normal per vertex) as a Qt3D geometry
+// renderer. The vertex layout and normals come from the core, so the headset renderer draws the same.
 #include <Qt3DRender/QGeometryRenderer>
 
-#include "vaw/mesh.hpp"
+#include "vaw/view/frame.hpp"
 
 namespace vaw::ui {
 
-Qt3DRender::QGeometryRenderer* makeFlatShadedRenderer(const vaw::TriMesh& mesh, Qt3DCore::QNode* parent);
+Qt3DRender::QGeometryRenderer* makeRenderer(const vaw::view::MeshBuffer& mesh, Qt3DCore::QNode* parent);
 
 }  // namespace vaw::ui

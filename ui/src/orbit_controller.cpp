@@ -22,7 +22,7 @@ void OrbitController::setDistanceLimits(float closest, float farthest) {
 
 void OrbitController::moveCamera(const InputState& state, float dt) {
   Qt3DRender::QCamera* cam = camera();
-  if (cam == nullptr) return;
+  if (cam == nullptr || suspended_) return;
   // Mouse axis values are the pointer's movement since the last frame times the mouse device's
   // sensitivity (0.1 per pixel); they are not rates, so they are not multiplied by dt (keys are).
   constexpr float kPixelsPerUnit = 10.0f;
@@ -37,8 +37,9 @@ void OrbitController::moveCamera(const InputState& state, float dt) {
     cam->translate(QVector3D(-state.rxAxisValue, -state.ryAxisValue, 0.0f) * kPixelsPerUnit * perPixel);
   }
 
-  float yaw = state.txAxisValue * lookSpeed() * dt;  // arrow keys
-  float pitch = state.tyAxisValue * lookSpeed() * dt;
+  const float keys = state.shiftKeyActive ? 0.0f : 1.0f;
+  float yaw = keys * state.txAxisValue * lookSpeed() * dt;  // arrow keys
+  float pitch = keys * state.tyAxisValue * lookSpeed() * dt;
   if (orbit) {
     constexpr float kDegreesPerPixel = 0.4f;
     yaw -= state.rxAxisValue * kPixelsPerUnit * kDegreesPerPixel;

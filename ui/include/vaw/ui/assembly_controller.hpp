@@ -1,7 +1,9 @@
 #pragma once
-// The one place that holds the loaded vaw::Assembly. Widgets observe it through Qt signals and read
-// the assembly through assembly(); they never keep pointers into it past the next assemblyLoaded().
-// Loading runs on a worker thread; a failed or cancelled load leaves the current assembly untouched.
+// The one owner of the loaded scene (vaw::sim::Scene: the assembly with its collision geometry, built once
+// on a worker thread and then shared, read-only, by the panels, the viewport and the simulation). Widgets
+// observe it through Qt signals; they never keep pointers into it past the next assemblyLoaded(). A failed
+// or cancelled load leaves the current scene untouched. A session file (*.vaw-session.json) opens its
+// scene and hands the session on (takeSession()) for the simulation to play back.
 #include <QFutureWatcher>
 #include <QObject>
 #include <QString>
@@ -17,6 +19,8 @@
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/scene_loader.hpp"
+#include "vaw/sim/scene.hpp"
+#include "vaw/sim/session.hpp"
 
 namespace vaw::ui {
 
@@ -50,11 +54,17 @@ class AssemblyController : public QObject {
 
   // The current assembly, or null before the first successful load. Valid until the next
   // assemblyLoaded() signal.
-  [[nodiscard]] const vaw::Assembly* assembly() const { return assembly_.get(); }
+  [[nodiscard]] const vaw::Assembly* assembly() const { return scene_ ? &scene_->assembly() : nullptr; }
+  // The loaded scene, shared: holders keep it alive past a reload.
+  [[nodiscard]] const std::shared_ptr<const vaw::sim::Scene>& scene() const { return scene_; }
   // How each part and environment object collides (its proxy), measured when the assembly loaded.
-  [[nodiscard]] const std::vector<vaw::collision::ObjectInfo>& collisionInfo() const { return collisionInfo_; }
-  // The file of the current assembly (what File > Reload reads).
+  [[nodiscard]] const std::vector<vaw::collision::ObjectInfo>& collisionInfo() const;
+  // The file of the current assembly (what File > Reload reads): the scene, also when a session was opened.
   [[nodiscard]] QString currentPath() const { return currentPath_; }
+  // The scene as a session should name it: the path given, or a bundled scene's file name.
+  [[nodiscard]] QString sceneReference() const { return sceneReference_; }
+  // The session that came with the last load (a session file was opened), once; empty otherwise.
+  [[nodiscard]] std::optional<vaw::sim::Session> takeSession();
   [[nodiscard]] bool isLoading() const { return watcher_.isRunning(); }
 
   // What a load calls on the worker thread; vaw::loadAny unless replaced (tests use a slow one).
@@ -83,8 +93,10 @@ class AssemblyController : public QObject {
 
  private:
   struct Outcome {
-    std::shared_ptr<vaw::Assembly> assembly;
-    std::vector<vaw::collision::ObjectInfo> collision;
+    std::shared_ptr<const vaw::sim::Scene> scene;
+    QString scenePath;       // the scene file read (the session's scene when a session was opened)
+    QString sceneReference;  // how a session names it
+    std::optional<vaw::sim::Session> session;
     std::optional<LoadFailure> failure;
     bool cancelled = false;
   };
@@ -97,9 +109,10 @@ class AssemblyController : public QObject {
   QStringList pluginMessages_;
   vaw::LoadOptions options_;
   Loader loader_;
-  std::unique_ptr<vaw::Assembly> assembly_;
-  std::vector<vaw::collision::ObjectInfo> collisionInfo_;
+  std::shared_ptr<const vaw::sim::Scene> scene_;
+  std::optional<vaw::sim::Session> session_;
   QString currentPath_;
+  QString sceneReference_;
   QString loadingPath_;
   std::optional<QString> pendingPath_;
   std::shared_ptr<std::atomic<bool>> cancel_;

@@ -1,7 +1,11 @@
 #pragma once
-// The selected part's properties as a two-column table (property, value): mass, volume, centre of
-// mass, principal moments, category and why, where the mass properties come from and how far the
-// property file and the mesh disagree, triangle count and shape source. Copies what it shows.
+// The part-state inspector: the selected part as a two-column table (property, value). First what it is
+// doing now, updated as it moves (state and time in it, holder, motion model and method, the constraint it
+// rests by, its model coordinates, world position, velocity, angular velocity, kinetic and potential
+// energy, its last transition and refusal with their causes); then what it is (mass, volume, centre of
+// mass, the full inertia tensor, principal moments and axes, category and why, where the mass properties
+// come from and how far the property file and the mesh disagree, triangle count, shape, collision proxy).
+// Live updates change only the cells whose text changed. Copies what it shows.
 #include <QAbstractTableModel>
 #include <QString>
 #include <optional>
@@ -9,6 +13,7 @@
 
 #include "vaw/assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
+#include "vaw/sim/report.hpp"
 
 namespace vaw::ui {
 
@@ -23,6 +28,9 @@ class PartPropertiesModel : public QAbstractTableModel {
   void setPart(const vaw::Assembly* assembly, std::optional<vaw::PartId> part,
                const vaw::collision::ObjectInfo* collision = nullptr);
   [[nodiscard]] std::optional<vaw::PartId> part() const { return part_; }
+  // The live rows (added first on the first call, then updated in place).
+  void updateLive(const vaw::sim::PartReport& report);
+  [[nodiscard]] bool hasLive() const { return liveRows_ > 0; }
   // The value shown for a property (by its label), empty if absent. For tests and tools.
   [[nodiscard]] QString value(const QString& property) const;
 
@@ -38,8 +46,10 @@ class PartPropertiesModel : public QAbstractTableModel {
     QString value;
     QString toolTip;
     bool warn = false;  // shown highlighted (e.g. a large file/mesh disagreement)
+    bool live = false;  // part of the live section (shown on a tinted background)
   };
   std::vector<Row> rows_;
+  std::size_t liveRows_ = 0;  // rows_[0, liveRows_) are the live section
   std::optional<vaw::PartId> part_;
 };
 

@@ -1,0 +1,36 @@
+#pragma once
+// Shared by the GUI tests (Qt Test under Xvfb): any Qt warning fails the test, captures of the 3D view,
+// where a part shows on screen.
+#include <QImage>
+#include <QPoint>
+#include <QRgb>
+#include <QString>
+#include <QStringList>
+#include <optional>
+
+#include "vaw/assembly.hpp"
+
+namespace vaw::ui {
+class Viewport;
+}
+
+namespace vaw::guitest {
+
+// Installs a message handler that collects every Qt warning and critical message, except the harmless
+// ones it lists (each with its reason). takeWarnings() returns and clears them.
+void failOnWarnings();
+void restoreMessageHandler();
+QStringList takeWarnings();
+
+// A rendered frame of the viewport (waits for it); null on timeout.
+QImage capture(ui::Viewport* viewport);
+bool differs(QRgb a, QRgb b, int tolerance);
+double nonBackgroundFraction(const ui::Viewport* viewport, const QImage& image);
+// A window point where the viewport shows `part` at `pose`: the projection of the centre of its bounds,
+// or, when something else is in front of that, the nearest point of a grid over them; (-1, -1) if none.
+QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId part, const Eigen::Isometry3d& pose);
+
+// Where screenshots go (the build tree's tests/gui).
+QString shotPath(const QString& name);
+
+}  // namespace vaw::guitest

@@ -1,0 +1,501 @@
+// The workbench running the simulation, driven as a person drives it: real mouse presses, moves, wheel
+// turns and key presses in the 3D view and the panels. Each test opens a bundled scene, lets the
+// simulation run in real time and asserts on the world (through the window's SimulationController), the
+// inspector, the timeline and the viewport. Screenshots go to the build tree (tests/gui/*.png).
+//
+// Runs under Xvfb (Qt3D needs GL); any Qt warning fails the test.
+#include <Qt3DExtras/Qt3DWindow>
+#include <Qt3DRender/QCamera>
+#include <QCheckBox>
+#include <QDoubleSpinBox>
+#include <QLineEdit>
+#include <QProcess>
+#include <QRegularExpression>
+#include <QScreen>
+#include <QSignalSpy>
+#include <QStatusBar>
+#include <QTemporaryDir>
+#include <QWheelEvent>
+#include <QtTest>
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "gui_test_support.hpp"
+#include "vaw/paths.hpp"
+#include "vaw/sim/report.hpp"
+#include "vaw/sim/session.hpp"
+#include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/docks.hpp"
+#include "vaw/ui/main_window.hpp"
+#include "vaw/ui/message_log_model.hpp"
+#include "vaw/ui/part_properties_model.hpp"
+#include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/timeline.hpp"
+#include "vaw/ui/viewport.hpp"
+#include "vaw/units.hpp"
+
+using vaw::PartId;
+using vaw::interact::Event;
+using vaw::interact::PartState;
+using vaw::ui::AssemblyController;
+using vaw::ui::MainWindow;
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+QString stateOf(const vaw::sim::World& w, PartId p) { return QString::fromStdString(std::string(vaw::interact::name(w.part(p).state))); }
+
+// The events of one part, e.g. "grab:INHAND release:INSPACE hit-environment:STATIC".
+QString eventsOf(const std::vector<vaw::sim::TransitionRecord>& log, PartId part) {
+  QStringList out;
+  for (const auto& t : log)
+    if (t.part == part)
+      out << QString::fromStdString(std::string(vaw::interact::name(t.event)) + ":" + std::string(vaw::interact::name(t.to)));
+  return out.join(QLatin1Char(' '));
+}
+
+QColor colorOf(PartState s) {
+  const auto c = vaw::view::stateColor(s);
+  return QColor::fromRgbF(c.r, c.g, c.b);
+}
+
+}  // namespace
+
+class TestSimulation : public QObject {
+  Q_OBJECT
+
+ public:
+  static void initMain() {
+    if (qEnvironmentVariableIsEmpty("QT3D_RENDERER")) qputenv("QT3D_RENDERER", "opengl");
+  }
+
+ private slots:
+  void initTestCase();
+  void cleanup();
+  void cleanupTestCase();
+
+  void grabMoveReleaseDropsAndRests();
+  void playheadDragShowsTheRecordedPast();
+  void sessionSavedInTheWindowReplaysBitForBit();
+  void twoHandPartRefusesAOneHandGrab();
+  void tiltingTheBaseStartsTheBlockOnlyPastTheFrictionAngle();
+  void gearReleasedOnItsShaftSwingsWithThePendulumPeriod();
+  void pauseSingleStepAndSpeed();
+
+ private:
+  [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
+  [[nodiscard]] vaw::ui::SimulationController& sim() const { return window_->simulation(); }
+  [[nodiscard]] const vaw::Assembly& assembly() const { return *controller_->assembly(); }
+  [[nodiscard]] const vaw::sim::World& world() const { return sim().world(); }
+  void open(const QString& scene);
+  QPoint onPart(PartId part) {
+    return vaw::guitest::pointOnPart(viewport(), assembly(), part, world().part(part).pose);
+  }
+  // A press at `from`, a move in `steps` to `to` (each after `msPerStep`), no release.
+  void pressAndDrag(const QPoint& from, const QPoint& to, int steps, int msPerStep, Qt::KeyboardModifiers mods = {});
+  void lookFrom(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre);
+  void screenshot(const QString& name);
+  void setSpin(QDoubleSpinBox* box, double value);
+
+  std::unique_ptr<AssemblyController> controller_;
+  std::unique_ptr<MainWindow> window_;
+};
+
+void TestSimulation::initTestCase() {
+  vaw::guitest::failOnWarnings();
+  controller_ = std::make_unique<AssemblyController>();
+  window_ = std::make_unique<MainWindow>(*controller_);
+  window_->resize(1280, 800);
+  window_->show();
+  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
+}
+
+void TestSimulation::cleanup() {
+  if (window_) sim().pause();
+  const QStringList warnings = vaw::guitest::takeWarnings();
+  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+}
+
+void TestSimulation::cleanupTestCase() {
+  window_.reset();
+  controller_.reset();
+  vaw::guitest::restoreMessageHandler();
+}
+
+void TestSimulation::open(const QString& scene) {
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  controller_->open(QFile::decodeName((vaw::resourceDir() / "scenes").string().c_str()) + QLatin1Char('/') + scene);
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QVERIFY(sim().hasWorld());
+  QVERIFY2(sim().isPlaying(), "the workbench runs the simulation as soon as a scene is open");
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+}
+
+void TestSimulation::pressAndDrag(const QPoint& from, const QPoint& to, int steps, int msPerStep,
+                                  Qt::KeyboardModifiers mods) {
+  QWindow* w = viewport()->view3d();
+  QTest::mousePress(w, Qt::LeftButton, mods, from);
+  for (int i = 1; i <= steps; ++i) {
+    QTest::mouseMove(w, from + (to - from) * i / steps);
+    QTest::qWait(msPerStep);
+  }
+}
+
+void TestSimulation::lookFrom(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre) {
+  Qt3DRender::QCamera* cam = viewport()->camera();
+  cam->setViewCenter(QVector3D(static_cast<float>(centre.x()), static_cast<float>(centre.y()), static_cast<float>(centre.z())));
+  cam->setPosition(QVector3D(static_cast<float>(eye.x()), static_cast<float>(eye.y()), static_cast<float>(eye.z())));
+  cam->setUpVector(QVector3D(0, 0, 1));
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+}
+
+void TestSimulation::screenshot(const QString& name) {
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+  QTest::qWait(200);
+  const QPixmap shot = window_->screen()->grabWindow(window_->winId());
+  QVERIFY(shot.save(vaw::guitest::shotPath(name)));
+}
+
+void TestSimulation::setSpin(QDoubleSpinBox* box, double value) {
+  box->setFocus();
+  QLineEdit* edit = box->findChild<QLineEdit*>();
+  QVERIFY(edit != nullptr);
+  QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
+  QTest::keyClicks(edit, QString::number(value));
+  QTest::keyClick(edit, Qt::Key_Return);
+  QCOMPARE(box->value(), value);
+}
+
+// Grab the sleeve with the mouse, lift it well above the table (the drop line and marker show its height),
+// let go: INHAND -> INSPACE -> STATIC, and the timeline shows those three segments in the sleeve's lane.
+void TestSimulation::grabMoveReleaseDropsAndRests() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  const PartId sleeve = *assembly().findPart("sleeve");
+  const QPoint p0 = onPart(sleeve);
+  QVERIFY2(p0.x() >= 0, "the sleeve is visible");
+  const double z0 = world().part(sleeve).pose.translation().z();
+  pressAndDrag(p0, p0 + QPoint(0, -90), 12, 25);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), sleeve), QStringLiteral("INHAND"), 5000);
+  QTRY_VERIFY_WITH_TIMEOUT(world().part(sleeve).pose.translation().z() > z0 + 0.03, 3000);
+  QVERIFY(viewport()->dragging() == sleeve);
+  // While held: the inspector follows it and the frame carries a drop line to the table below.
+  QTRY_COMPARE_WITH_TIMEOUT(window_->partDock()->model()->value(QStringLiteral("State")), QStringLiteral("INHAND"), 3000);
+  QCOMPARE(window_->partDock()->model()->value(QStringLiteral("Holder")), QStringLiteral("right hand"));
+  const auto& frame = sim().frame();
+  QCOMPARE(frame.drops.size(), std::size_t{1});
+  QCOMPARE(frame.drops[0].part, sleeve);
+  QVERIFY2(frame.drops[0].from.z() - frame.drops[0].to.z() > 0.15, "held well above what is below it");
+  QVERIFY(frame.hands[1].grab && frame.hands[1].holding == sleeve);
+  screenshot(QStringLiteral("held-part.png"));
+  vaw::guitest::capture(viewport()).save(vaw::guitest::shotPath(QStringLiteral("held-3d.png")));
+  // Hold still, then let go: a slow release drops it.
+  QTest::qWait(250);
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, p0 + QPoint(0, -90));
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), sleeve), QStringLiteral("STATIC"), 8000);
+  QCOMPARE(eventsOf(world().transitions(), sleeve), QStringLiteral("grab:INHAND release:INSPACE hit-environment:STATIC"));
+  QVERIFY(std::abs(world().part(sleeve).pose.translation().z()) < 1e-3);  // on the table (its frame is at its bottom)
+  QVERIFY(sim().frame().drops.empty());
+  // The timeline: the sleeve's lane with its segments in the state colours.
+  QTest::qWait(600);
+  vaw::ui::TimelineView* timeline = window_->timelineDock()->view();
+  QCOMPARE(timeline->lanes(), std::vector<PartId>{sleeve});
+  const auto& log = window_->timelineDock()->model()->transitions();
+  QCOMPARE(log.size(), std::size_t{3});
+  const QImage image = timeline->render(1.0);
+  const QRect lane = timeline->laneRect(0);
+  const auto colourAt = [&](double t) { return image.pixelColor(static_cast<int>(std::lround(timeline->xOf(t))), lane.center().y()); };
+  const auto close = [](const QColor& a, const QColor& b) {
+    return std::abs(a.red() - b.red()) + std::abs(a.green() - b.green()) + std::abs(a.blue() - b.blue()) < 20;
+  };
+  QVERIFY(close(colourAt(0.5 * (log[0].t + log[1].t)), colorOf(PartState::InHand)));
+  QVERIFY(close(colourAt(0.5 * (log[1].t + log[2].t)), colorOf(PartState::InSpace)));
+  QVERIFY(close(colourAt(log[2].t + 0.2), colorOf(PartState::Static)));
+  QVERIFY(image.save(vaw::guitest::shotPath(QStringLiteral("timeline.png"))));
+  screenshot(QStringLiteral("after-drop.png"));
+}
+
+// Dragging the timeline's playhead back to the middle of the flight puts the sleeve where the recording
+// had it at that step (compared with a headless replay of the recorded session, bit for bit), and the
+// inspector shows that past.
+void TestSimulation::playheadDragShowsTheRecordedPast() {
+  const PartId sleeve = *assembly().findPart("sleeve");
+  QVERIFY(sim().recorder().length() > 0);
+  const auto& log = sim().recorder().transitions();
+  QVERIFY(log.size() >= 3);
+  const double mid = 0.5 * (log[1].t + log[2].t);  // in flight
+  vaw::ui::TimelineView* timeline = window_->timelineDock()->view();
+  timeline->setVisibleRange(0.0, std::max(5.0, sim().recorder().endTime()));
+  const int y = timeline->axisHeight() - 4;
+  const QPoint start(static_cast<int>(timeline->xOf(sim().recorder().endTime())), y);
+  const QPoint target(static_cast<int>(std::lround(timeline->xOf(mid))), y);
+  QTest::mousePress(timeline, Qt::LeftButton, {}, start);
+  for (int i = 1; i <= 6; ++i) {
+    QTest::mouseMove(timeline, start + (target - start) * i / 6);
+    QTest::qWait(20);
+  }
+  QTest::mouseRelease(timeline, Qt::LeftButton, {}, target);
+  QVERIFY(!sim().isPlaying());
+  QVERIFY(sim().inPast());
+  const std::uint64_t step = sim().recorder().step();
+  QVERIFY2(step > log[1].step && step <= log[2].step, qPrintable(QString::number(step)));
+  QCOMPARE(stateOf(world(), sleeve), QStringLiteral("INSPACE"));
+  // The recorded pose at that step, from a headless replay of the session.
+  Eigen::Isometry3d recorded = Eigen::Isometry3d::Identity();
+  std::uint64_t n = 0;
+  (void)vaw::sim::replay(sim().recorder().scenePtr(), sim().recorder().session(), [&](const vaw::sim::World& w) {
+    if (++n == step) recorded = w.part(sleeve).pose;
+  });
+  QVERIFY(sim().frame().parts[sleeve].pose.matrix() == recorded.matrix());
+  QTRY_COMPARE(window_->partDock()->model()->value(QStringLiteral("State")), QStringLiteral("INSPACE"));
+  QVERIFY(window_->statusText().contains(QStringLiteral("in the past")));
+  screenshot(QStringLiteral("scrubbed.png"));
+  // Back to the end: the recording is whole again.
+  QTest::keyClick(viewport()->view3d(), Qt::Key_End);
+  QTRY_VERIFY(!sim().inPast());
+  QCOMPARE(stateOf(world(), sleeve), QStringLiteral("STATIC"));
+}
+
+// File > Save Session writes what `vaw-sim run --replay` reads, and that replay ends in the same state
+// hash as the window's world.
+void TestSimulation::sessionSavedInTheWindowReplaysBitForBit() {
+  QVERIFY(!sim().inPast());
+  // An edit recorded with the inputs.
+  sim().requestEdit(vaw::sim::MaterialFrictionEdit{"brass", {0.2, 0.15, 0.0005}});
+  QTest::qWait(100);
+  sim().pause();
+  QTemporaryDir dir;
+  QVERIFY(dir.isValid());
+  const QString file = dir.filePath(QStringLiteral("gui.vaw-session.json"));
+  QVERIFY(window_->saveSession(file));
+  const std::string expected = vaw::sim::hashText(world().stateHash());
+  QVERIFY(!sim().recorder().session().edits.empty());
+  QProcess run;
+  run.start(QStringLiteral(VAW_SIM_EXE),
+            {QStringLiteral("run"), QStringLiteral("--replay"), file, QStringLiteral("--out"), dir.filePath(QStringLiteral("out"))});
+  QVERIFY(run.waitForFinished(60000));
+  const QString out = QString::fromUtf8(run.readAllStandardOutput());
+  QVERIFY2(run.exitCode() == 0, qPrintable(out + QString::fromUtf8(run.readAllStandardError())));
+  QVERIFY2(out.contains(QStringLiteral("state hash ") + QString::fromStdString(expected)), qPrintable(out));
+  QVERIFY2(out.contains(QStringLiteral("1 edits")), qPrintable(out));
+}
+
+// The tray of the hoist demo needs both hands: dragging it with one is refused, with the reason in the
+// status bar, the messages and the inspector; it stays where it is. With Ctrl (both hands) it comes.
+void TestSimulation::twoHandPartRefusesAOneHandGrab() {
+  open(QStringLiteral("hoist-demo.vaw.json"));
+  const PartId tray = *assembly().findPart("tray");
+  QCOMPARE(assembly().parts[tray].category.category, vaw::Category::TwoHand);
+  const Eigen::Isometry3d before = world().part(tray).pose;
+  viewport()->selectPart(tray);
+  const QPoint p = onPart(tray);
+  QVERIFY(p.x() >= 0);
+  pressAndDrag(p, p + QPoint(0, -60), 6, 25);
+  QTRY_VERIFY_WITH_TIMEOUT(!world().refusals().empty(), 3000);
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, p + QPoint(0, -60));
+  const auto& r = world().refusals().back();
+  QCOMPARE(r.part, tray);
+  QCOMPARE(r.event, Event::Grab);
+  QVERIFY2(window_->statusBar()->currentMessage().contains(QStringLiteral("a two-hand part needs both hands")),
+           qPrintable(window_->statusBar()->currentMessage()));
+  auto* messages = window_->messagesDock()->model();
+  QVERIFY(messages->text(messages->rowCount() - 1).contains(QStringLiteral("two-hand")));
+  QTRY_VERIFY(window_->partDock()->model()->value(QStringLiteral("Last refusal")).contains(QStringLiteral("both hands")));
+  QTest::qWait(200);
+  QCOMPARE(stateOf(world(), tray), QStringLiteral("STATIC"));
+  QVERIFY(world().part(tray).pose.matrix() == before.matrix());
+  screenshot(QStringLiteral("refused.png"));
+  // Both hands (Ctrl held while dragging) take it.
+  pressAndDrag(p, p + QPoint(0, -40), 6, 25, Qt::ControlModifier);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), tray), QStringLiteral("INHAND"), 3000);
+  QCOMPARE(world().part(tray).holder, vaw::sim::Holder::Both);
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, Qt::ControlModifier, p + QPoint(0, -40));
+  QTRY_VERIFY_WITH_TIMEOUT(world().part(tray).state != PartState::InHand, 3000);
+}
+
+// The block on the plate: the user puts it on the plate (a drag from above, a drop, a nudge), then tilts
+// the base in the Base panel. At 16 degrees (below atan(0.30) = 16.70) it stays put, exactly; at 18 it
+// starts to slide.
+void TestSimulation::tiltingTheBaseStartsTheBlockOnlyPastTheFrictionAngle() {
+  open(QStringLiteral("block-on-plate.vaw.json"));
+  const PartId block = *assembly().findPart("block");
+  const PartId plate = *assembly().base;
+  // From straight above (almost: the orbit keeps the horizon), the hand moves the block horizontally.
+  lookFrom({0.15, -0.03, 1.2}, {0.15, 0.0, 0.0});
+  const QPoint from = onPart(block);
+  QVERIFY(from.x() >= 0);
+  // Over the plate's centre, at the height it was grabbed at: the drop lands it on the plate's face.
+  const Eigen::Vector3d grabbed = world().part(block).pose.translation();
+  const QPoint to = viewport()->projectToWindow(Eigen::Vector3d(0.0, 0.0, grabbed.z())).toPoint() +
+                    (from - viewport()->projectToWindow(grabbed).toPoint());
+  pressAndDrag(from, to, 10, 25);
+  QTest::qWait(250);
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, to);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("STATIC"), 5000);
+  QVERIFY2(eventsOf(world().transitions(), block).endsWith(QStringLiteral("hit-environment:STATIC")),
+           qPrintable(eventsOf(world().transitions(), block)));
+  // A nudge of the resting block: released on its mate, it goes onto the base.
+  const QPoint at = onPart(block);
+  pressAndDrag(at, at + QPoint(14, 0), 4, 25);
+  QTest::qWait(150);
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, at + QPoint(14, 0));
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("ONBASESTATIC"), 5000);
+  // Below the static friction angle: it rides with the plate and does not move on it.
+  auto* controls = window_->controlsDock();
+  const Eigen::Isometry3d onPlate = world().basePose().inverse() * world().part(block).pose;
+  setSpin(controls->tiltX(), 16.0);
+  QTRY_VERIFY_WITH_TIMEOUT(std::abs(window_->simulation().baseAngles().tiltX - 16.0 * kDeg) < 1e-9, 3000);
+  QTest::qWait(600);
+  QCOMPARE(stateOf(world(), block), QStringLiteral("ONBASESTATIC"));
+  const Eigen::Isometry3d stillOnPlate = world().basePose().inverse() * world().part(block).pose;
+  QVERIFY2((stillOnPlate.translation() - onPlate.translation()).norm() < 1e-12, "0 m on the plate");
+  QVERIFY(world().part(plate).pose.isApprox(world().basePose(), 0.0));
+  screenshot(QStringLiteral("tilted-16.png"));
+  // Past it: the block starts to slide down the plate.
+  setSpin(controls->tiltX(), 18.0);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("ONBASESLIDE"), 3000);
+  const auto& started = world().transitions().back();
+  QCOMPARE(started.event, Event::StaticFrictionOvercome);
+  // It started on the way from 16 to 18 degrees, past the friction angle atan(0.30) = 16.70 degrees.
+  const auto match = QRegularExpression(QStringLiteral("surface slope=([0-9.]+) deg")).match(QString::fromStdString(started.cause));
+  QVERIFY2(match.hasMatch(), started.cause.c_str());
+  const double slope = match.captured(1).toDouble();
+  QVERIFY2(slope > std::atan(0.30) / kDeg && slope <= 18.0 + 1e-9, started.cause.c_str());
+  QTest::qWait(150);
+  screenshot(QStringLiteral("sliding.png"));
+}
+
+// The gear: brought to its shaft (turned a quarter about y with Z held, moved onto the axis, rolled about it
+// with C so that it hangs off-centre) and released,
+// it swings as a damped pendulum; each period, taken from a headless replay of what the window recorded,
+// is within 1 % of the large-amplitude pendulum's 4 sqrt(J / (m g d)) K(sin(a / 2)).
+void TestSimulation::gearReleasedOnItsShaftSwingsWithThePendulumPeriod() {
+  open(QStringLiteral("gear-on-shaft.vaw.json"));
+  const PartId gear = *assembly().findPart("gear");
+  const vaw::Part& g = assembly().parts[gear];
+  // Looking along -x: the hand moves in the y-z plane, Z turns about the view's horizontal axis (y).
+  lookFrom({0.9, 0.25, 0.1}, {0.0, 0.25, 0.1});
+  const QPoint p = onPart(g.id);
+  QVERIFY(p.x() >= 0);
+  pressAndDrag(p, p + QPoint(0, -12), 3, 30);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), gear), QStringLiteral("INHAND"), 3000);
+  QTest::keyPress(viewport()->view3d(), Qt::Key_Z);
+  const Eigen::Vector3d u = Eigen::Vector3d::UnitX();
+  QTRY_VERIFY_WITH_TIMEOUT(std::abs((world().part(gear).pose.linear() * Eigen::Vector3d::UnitZ()).dot(u)) > 0.999, 5000);
+  QTest::keyRelease(viewport()->view3d(), Qt::Key_Z);
+  QTest::qWait(100);
+  // Rolled about the view's axis (C; the turn is about the hand, so the bore moves, and is put back below)
+  // so that its centre of mass, which now hangs straight below the bore, swings out about 30 degrees.
+  QTest::keyPress(viewport()->view3d(), Qt::Key_C);
+  QTest::qWait(330);
+  QTest::keyRelease(viewport()->view3d(), Qt::Key_C);
+  QTest::qWait(100);
+  // Away from the camera (along the view, -x) with the wheel to x = 0, on the shaft (its assembled place is
+  // at x = 60 mm: released there it would be PLACED): 5 % of the distance along the view a notch.
+  const Eigen::Vector3d eye(0.9, 0.25, 0.1);
+  const double distance = eye.x() - sim().handPosition().x();
+  const double notches = world().part(gear).pose.translation().x() / (0.05 * distance);
+  const QPoint pointer = viewport()->projectToWindow(sim().handPosition()).toPoint();
+  QWheelEvent wheel(QPointF(pointer), viewport()->view3d()->mapToGlobal(QPointF(pointer)), QPoint(),
+                    QPoint(0, static_cast<int>(std::lround(notches * 120.0))), Qt::LeftButton, Qt::NoModifier,
+                    Qt::NoScrollPhase, false);
+  QCoreApplication::sendEvent(viewport()->view3d(), &wheel);
+  QTest::qWait(150);
+  QVERIFY2(std::abs(world().part(gear).pose.translation().x()) < 0.01,
+           qPrintable(QString::number(world().part(gear).pose.translation().x())));
+  // Its bore's centre onto the shaft's axis (y = 0, z = 150 mm): the hand moves by the difference.
+  const Eigen::Vector3d bore = world().part(gear).pose.translation();
+  const Eigen::Vector3d hand = sim().handPosition();
+  const Eigen::Vector3d wanted = hand + Eigen::Vector3d(0.0, -bore.y(), 0.15 - bore.z());
+  const QPoint target = viewport()->projectToWindow(wanted).toPoint();
+  const QPoint now = viewport()->projectToWindow(hand).toPoint();
+  for (int i = 1; i <= 10; ++i) {
+    QTest::mouseMove(viewport()->view3d(), now + (target - now) * i / 10);
+    QTest::qWait(25);
+  }
+  QTest::qWait(300);
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, target);  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), gear), QStringLiteral("ONBASESLIDE"), 3000);
+  QVERIFY2(eventsOf(world().transitions(), gear).endsWith(QStringLiteral("constraint-recognized:ONBASESTATIC static-friction-overcome:ONBASESLIDE")),
+           qPrintable(eventsOf(world().transitions(), gear)));
+  QTest::qWait(3500);
+  screenshot(QStringLiteral("gear-swinging.png"));
+  sim().pause();
+  // Every step of the swing, from a replay of the recording.
+  const std::uint64_t swingFrom = world().transitions().back().step;
+  std::vector<double> phis, ts;
+  const Eigen::Vector3d axisPoint(0, 0, 0.15);
+  (void)vaw::sim::replay(sim().recorder().scenePtr(), sim().recorder().session(), [&](const vaw::sim::World& w) {
+    if (w.stepCount() <= swingFrom) return;
+    const Eigen::Vector3d com = w.part(gear).pose * g.mass.centerOfMass - axisPoint;
+    phis.push_back(std::atan2(com.y(), -com.z()));  // from hanging straight down, about +x
+    ts.push_back(w.time());
+  });
+  std::vector<double> crossings, peaks;
+  double peak = 0.0;
+  for (std::size_t i = 1; i < phis.size(); ++i) {
+    peak = std::max(peak, std::abs(phis[i]));
+    if (phis[i - 1] > 0.0 && phis[i] <= 0.0) {
+      crossings.push_back(ts[i - 1] + (ts[i] - ts[i - 1]) * phis[i - 1] / (phis[i - 1] - phis[i]));
+      peaks.push_back(peak);
+      peak = 0.0;
+    }
+  }
+  QVERIFY2(crossings.size() >= 3, qPrintable(QString::number(crossings.size())));
+  const Eigen::Isometry3d atRest = world().part(gear).pose;
+  const Eigen::Vector3d uPart = atRest.linear().transpose() * u;
+  const Eigen::Vector3d r = atRest * g.mass.centerOfMass - axisPoint;
+  const double d = (r - u * u.dot(r)).norm();
+  const double J = uPart.dot(g.mass.inertiaCm * uPart) + g.mass.mass * d * d;
+  const double w0 = std::sqrt(g.mass.mass * vaw::kStandardGravity * d / J);
+  const double zeta = assembly().materials.at(g.material).rotationalFriction / (2.0 * J * w0);
+  double worst = 0.0;
+  for (std::size_t k = 1; k < crossings.size(); ++k) {
+    const double expected = 4.0 / w0 * std::comp_ellint_1(std::sin(peaks[k] / 2.0)) / std::sqrt(1.0 - zeta * zeta);
+    worst = std::max(worst, std::abs((crossings[k] - crossings[k - 1]) / expected - 1.0));
+  }
+  QVERIFY2(worst < 0.01, qPrintable(QStringLiteral("worst period error %1").arg(worst)));
+}
+
+// Space pauses and plays, "." steps exactly one step, "[" and "]" change the speed, and the simulated time
+// follows the wall clock times the speed.
+void TestSimulation::pauseSingleStepAndSpeed() {
+  QWindow* view = viewport()->view3d();
+  view->requestActivate();
+  QTRY_VERIFY(QGuiApplication::focusWindow() == view);
+  if (sim().isPlaying()) QTest::keyClick(view, Qt::Key_Space);
+  QVERIFY(!sim().isPlaying());
+  const std::uint64_t n = world().stepCount();
+  QTest::qWait(300);
+  QCOMPARE(world().stepCount(), n);
+  QTest::keyClick(view, Qt::Key_Period);
+  QCOMPARE(world().stepCount(), n + 1);
+  QTest::keyClick(view, Qt::Key_Period);
+  QCOMPARE(world().stepCount(), n + 2);
+  QTest::keyClick(view, Qt::Key_BracketLeft);
+  QCOMPARE(sim().speed(), 0.5);
+  QTest::keyClick(view, Qt::Key_BracketLeft);
+  QCOMPARE(sim().speed(), 0.25);
+  QTest::keyClick(view, Qt::Key_Space);
+  QVERIFY(sim().isPlaying());
+  QElapsedTimer wall;
+  wall.start();
+  const double t0 = world().time();
+  QTest::qWait(1500);
+  const double ratio = (world().time() - t0) / (static_cast<double>(wall.elapsed()) * 1e-3);
+  QVERIFY2(ratio > 0.15 && ratio < 0.3, qPrintable(QString::number(ratio)));  // 0.25 within a step either way
+  for (int i = 0; i < 2; ++i) QTest::keyClick(view, Qt::Key_BracketRight);
+  QCOMPARE(sim().speed(), 1.0);
+  QTest::keyClick(view, Qt::Key_BracketRight);
+  QTest::keyClick(view, Qt::Key_BracketRight);
+  QCOMPARE(sim().speed(), 2.0);
+  QTest::keyClick(view, Qt::Key_BracketRight);
+  QCOMPARE(sim().speed(), 2.0);
+  QTest::keyClick(view, Qt::Key_Space);
+  QVERIFY(!sim().isPlaying());
+  QVERIFY(window_->statusText().contains(QStringLiteral("paused")));
+}
+
+QTEST_MAIN(TestSimulation)
+#include "tst_simulation.moc"
