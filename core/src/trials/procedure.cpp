@@ -126,7 +126,7 @@ void Procedure::advance() {
     // At the mean alone every trial would sit on the 50 % point, where the answers say nothing about
     // the slope; the fit then comes out too steep and its interval too narrow. A third of the trials
     // each go one assumed spread below and above it, drawn per trial.
-    const double offset = static_cast<double>(Random(design_.seed, Stream::Order, index).below(3)) - 1.0;
+    const double offset = static_cast<double>(Random(design_.seed, Stream::QuestOffset, index).below(3)) - 1.0;
     const double x = std::clamp(mean / sum + offset * q->sigmaLog, questGrid_.front(), questGrid_.back());
     next_ = makeTrial(std::exp(x));
   }

@@ -13,7 +13,7 @@
 namespace vaw::trials::detail {
 
 // Purposes, so that two uses of one seed never share a stream.
-enum class Stream : std::uint64_t { Order = 1, Start = 2, Interleave = 3, TwoInterval = 4, Participant = 5 };
+enum class Stream : std::uint64_t { Order = 1, Start = 2, Interleave = 3, TwoInterval = 4, Participant = 5, QuestOffset = 6 };
 
 inline std::uint64_t splitmix(std::uint64_t x) {
   x += 0x9e3779b97f4a7c15ULL;
