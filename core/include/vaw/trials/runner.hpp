@@ -38,7 +38,6 @@ class Runner {
   [[nodiscard]] const std::vector<Record>& records() const { return procedure_.records(); }
   [[nodiscard]] int answered() const { return static_cast<int>(procedure_.records().size()); }
   [[nodiscard]] int plannedTrials() const { return procedure_.plannedTrials(); }
-  [[nodiscard]] const Procedure& procedure() const { return procedure_; }
   // The torn record that open() cut off, if there was one.
   [[nodiscard]] const std::optional<TornTail>& recovered() const { return recovered_; }
   [[nodiscard]] const std::filesystem::path& path() const { return path_; }
