@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "run_command.hpp"
+#include "trials_command.hpp"
 #include "work_precision_command.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
@@ -19,6 +20,7 @@ constexpr const char* kUsage =
     "       vaw-sim work-precision --out DIR [--repeats N] [--no-peers]\n"
     "       vaw-sim states [--dot]\n"
     "       vaw-sim run SCENE --inputs SCRIPT --out DIR | run --replay SESSION --out DIR\n"
+    "       vaw-sim trials simulate|analyze|demand ...   (vaw-sim trials --help)\n"
     "\n"
     "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
     "             centre of mass, principal moments, category and why.\n"
@@ -30,6 +32,8 @@ constexpr const char* kUsage =
     "  states     print the part-state transition table (--dot: as Graphviz, docs/states.dot)\n"
     "  run        simulate SCENE headless over an input script (docs/inputs-format.md) or a recorded\n"
     "             session; write DIR/trajectories.csv, DIR/transitions.csv, DIR/session.vaw-session.json\n"
+    "  trials     gravity-scale trials: simulate a design against a simulated participant, analyse\n"
+    "             results files (PSE with interval, chart), the head-demand model (docs/trials.md)\n"
     "\n"
     "exit status: 0 ok, 1 bad input (the message names file, field and expectation), 2 usage\n";
 
@@ -150,6 +154,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (command == "run") return vaw::app::run(args);
+  if (command == "trials") return vaw::app::trials(args, argc, argv);
   if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
   std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
   return 2;
