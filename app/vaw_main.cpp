@@ -125,6 +125,7 @@ int main(int argc, char** argv) {
       if (!sim.isPlayback() && sim.recorder().length() == 0)
         std::fprintf(stderr, "vaw: --at applies to a recorded session; showing the scene as loaded\n");
       sim.seek(sim.recorder().stepAt(at));
+      window.viewport()->resetView();  // frame the parts where they are then
     });
   }
   if (parser.isSet(selectOption)) {

@@ -83,6 +83,8 @@ class TestSimulation : public QObject {
   void tiltingTheBaseStartsTheBlockOnlyPastTheFrictionAngle();
   void gearReleasedOnItsShaftSwingsWithThePendulumPeriod();
   void pauseSingleStepAndSpeed();
+  void hoistLiftsTheToolPart();
+  void principalAxesAreDrawnOnRequest();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -131,6 +133,7 @@ void TestSimulation::open(const QString& scene) {
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
   QVERIFY(sim().hasWorld());
   QVERIFY2(sim().isPlaying(), "the workbench runs the simulation as soon as a scene is open");
+  sim().setSpeed(1.0);
   QVERIFY(!vaw::guitest::capture(viewport()).isNull());
 }
 
@@ -387,11 +390,16 @@ void TestSimulation::gearReleasedOnItsShaftSwingsWithThePendulumPeriod() {
   QTest::keyRelease(viewport()->view3d(), Qt::Key_Z);
   QTest::qWait(100);
   // Rolled about the view's axis (C; the turn is about the hand, so the bore moves, and is put back below)
-  // so that its centre of mass, which now hangs straight below the bore, swings out about 30 degrees.
+  // until its centre of mass, which now hangs straight below the bore, is 22-40 degrees out.
+  const auto offHanging = [&] {  // the angle of the centre of mass from straight below the bore, about x
+    const Eigen::Vector3d r = world().part(gear).pose * g.mass.centerOfMass - world().part(gear).pose.translation();
+    return std::abs(std::atan2(r.y(), -r.z()));
+  };
   QTest::keyPress(viewport()->view3d(), Qt::Key_C);
-  QTest::qWait(330);
+  QTRY_VERIFY_WITH_TIMEOUT(offHanging() > 22.0 * kDeg, 5000);
   QTest::keyRelease(viewport()->view3d(), Qt::Key_C);
   QTest::qWait(100);
+  QVERIFY2(offHanging() < 40.0 * kDeg, qPrintable(QString::number(offHanging() / kDeg)));
   // Away from the camera (along the view, -x) with the wheel to x = 0, on the shaft (its assembled place is
   // at x = 60 mm: released there it would be PLACED): 5 % of the distance along the view a notch.
   const Eigen::Vector3d eye(0.9, 0.25, 0.1);
@@ -455,7 +463,13 @@ void TestSimulation::gearReleasedOnItsShaftSwingsWithThePendulumPeriod() {
     const double expected = 4.0 / w0 * std::comp_ellint_1(std::sin(peaks[k] / 2.0)) / std::sqrt(1.0 - zeta * zeta);
     worst = std::max(worst, std::abs((crossings[k] - crossings[k - 1]) / expected - 1.0));
   }
-  QVERIFY2(worst < 0.01, qPrintable(QStringLiteral("worst period error %1").arg(worst)));
+  QStringList detail;
+  for (std::size_t k = 0; k < crossings.size(); ++k)
+    detail << QStringLiteral("%1 s (peak %2 deg)").arg(crossings[k], 0, 'f', 4).arg(peaks[k] / kDeg, 0, 'f', 2);
+  QVERIFY2(worst < 0.01, qPrintable(QStringLiteral("worst period error %1; crossings %2; events %3")
+                                        .arg(worst)
+                                        .arg(detail.join(QStringLiteral(", ")))
+                                        .arg(eventsOf(world().transitions(), gear))));
 }
 
 // Space pauses and plays, "." steps exactly one step, "[" and "]" change the speed, and the simulated time
@@ -495,6 +509,68 @@ void TestSimulation::pauseSingleStepAndSpeed() {
   QTest::keyClick(view, Qt::Key_Space);
   QVERIFY(!sim().isPlaying());
   QVERIFY(window_->statusText().contains(QStringLiteral("paused")));
+}
+
+// The hoist demo's 40 kg block: the hook is lowered in the panel, H closes it on the block (ONTOOL),
+// Shift+Up raises it, H again sets the block down where it hangs (a tool part does not fly).
+void TestSimulation::hoistLiftsTheToolPart() {
+  open(QStringLiteral("hoist-demo.vaw.json"));
+  const PartId block = *assembly().findPart("block");
+  auto* controls = window_->controlsDock();
+  QVERIFY(controls->hoistEngaged()->isVisibleTo(window_.get()));
+  setSpin(controls->hoistHeight(), 150.0);
+  QWindow* view = viewport()->view3d();
+  view->requestActivate();
+  QTRY_VERIFY(QGuiApplication::focusWindow() == view);
+  QTest::qWait(100);
+  QTest::keyClick(view, Qt::Key_H);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("ONTOOL"), 3000);
+  QVERIFY(controls->hoistEngaged()->isChecked());
+  // QTest's key functions let the event loop run, so a step or two may pass around each key: the lift is
+  // bracketed by the simulated time from the press to just before and to just after the release.
+  QTest::keyPress(view, Qt::Key_Shift);
+  QTest::keyPress(view, Qt::Key_Up, Qt::ShiftModifier);
+  const double z0 = world().part(block).pose.translation().z();
+  const double t0 = world().time();
+  QTest::qWait(600);
+  const double t1 = world().time();
+  QTest::keyRelease(view, Qt::Key_Up, Qt::ShiftModifier);
+  const double t2 = world().time();
+  QTest::keyRelease(view, Qt::Key_Shift);
+  const double lifted = world().part(block).pose.translation().z() - z0;
+  const double h = world().settings().step();
+  QVERIFY2(lifted > 0.03 && lifted >= 0.15 * (t1 - t0) - 1e-9 && lifted <= 0.15 * (t2 - t0 + h) + 1e-9,
+           qPrintable(QStringLiteral("%1 m in %2-%3 s").arg(lifted).arg(t1 - t0).arg(t2 - t0)));
+  // Along the hoist's vertical line only.
+  QVERIFY(std::abs(world().part(block).pose.translation().x() - 0.5) < 1e-9);
+  QTRY_VERIFY(std::abs(controls->hoistHeight()->value() - sim().hoist().height * 1e3) < 0.5);
+  QVERIFY(sim().frame().hoists.size() == 1 && sim().frame().hoists[0].load == block);
+  screenshot(QStringLiteral("hoist.png"));
+  QTest::keyClick(view, Qt::Key_H);
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("STATIC"), 3000);
+  QCOMPARE(world().transitions().back().event, Event::ToolDetach);
+}
+
+// Ticking "Show principal axes" draws three lines through the selected part's centre of mass.
+void TestSimulation::principalAxesAreDrawnOnRequest() {
+  const PartId block = *assembly().findPart("block");
+  viewport()->selectPart(block);
+  const QImage before = vaw::guitest::capture(viewport());
+  QCheckBox* box = window_->partDock()->axesBox();
+  QTest::mouseClick(box, Qt::LeftButton);
+  QVERIFY(box->isChecked());
+  QImage after;
+  int changed = 0;
+  for (int attempt = 0; attempt < 3 && changed < 100; ++attempt) {
+    after = vaw::guitest::capture(viewport());
+    changed = 0;
+    for (int y = 0; y < after.height(); ++y)
+      for (int x = 0; x < after.width(); ++x) changed += vaw::guitest::differs(before.pixel(x, y), after.pixel(x, y), 40) ? 1 : 0;
+  }
+  QVERIFY2(changed >= 100, qPrintable(QString::number(changed)));
+  screenshot(QStringLiteral("principal-axes.png"));
+  QTest::mouseClick(box, Qt::LeftButton);
+  QVERIFY(!box->isChecked());
 }
 
 QTEST_MAIN(TestSimulation)

@@ -340,7 +340,7 @@ void MainWindow::showSelection(std::optional<vaw::PartId> part) {
     selectedFrom_ = controller_.currentPath();
     const vaw::Part& p = assembly->parts[*part];
     // Half-lengths from the part's extent, so the axes stick out of it.
-    const double half = std::max(0.6 * p.extent, 0.01);
+    const double half = std::max(0.8 * p.extent, 0.02);
     viewport_->showAxes(axesShown_ ? std::optional(Viewport::Axes{*part, p.mass.centerOfMass, p.principal.axes,
                                                                   Eigen::Vector3d::Constant(half)})
                                    : std::nullopt);
@@ -365,9 +365,12 @@ void MainWindow::updateLive() {
   const auto part = simulation_->selected();
   if (part && partDock_->model()->part() == part) partDock_->model()->updateLive(vaw::sim::report(simulation_->world(), *part));
   const vaw::sim::Recorder& r = simulation_->recorder();
-  timelineDock_->view()->setTimes(r.world().time(), r.endTime(), !r.atEnd());
-  controlsDock_->showBaseTarget(simulation_->baseTarget());
-  if (simulation_->world().hoist()) controlsDock_->showHoist(simulation_->hoist());
+  timelineDock_->view()->setTimes(r.world().time(), r.endTime(), !r.atEnd(), simulation_->isPlayback());
+  // A recording (played back, or looked at in the past) shows the base as it held it.
+  const bool recorded = simulation_->isPlayback() || simulation_->inPast();
+  controlsDock_->showBaseTarget(recorded ? simulation_->worldBaseAngles() : simulation_->baseTarget());
+  if (simulation_->world().hoist())
+    controlsDock_->showHoist(recorded ? simulation_->world().lastInput().hoist : simulation_->hoist());
   updateStatus();
 }
 
@@ -375,7 +378,7 @@ void MainWindow::logChanged() {
   if (!simulation_->hasWorld()) return;
   const vaw::sim::Recorder& r = simulation_->recorder();
   timelineDock_->model()->setLog(&r.scene().assembly(), r.transitions(), r.refusals(), r.edits());
-  timelineDock_->view()->setTimes(r.world().time(), r.endTime(), !r.atEnd());
+  timelineDock_->view()->setTimes(r.world().time(), r.endTime(), !r.atEnd(), simulation_->isPlayback());
 }
 
 QString MainWindow::statusText() const {

@@ -291,12 +291,13 @@ void SimulationController::syncInputs() {
     bothHands_ = last.left.grab && last.right.grab;
   }
   hoistInput_ = last.hoist;
+  base_ = baseTarget_ = worldBaseAngles();
+}
+
+BaseAngles SimulationController::worldBaseAngles() const {
   // R = Rx(a) Ry(b) Rz(c): b = asin(R02), a = atan2(-R12, R22), c = atan2(-R01, R00).
   const Eigen::Matrix3d r = recorder_->world().basePose().linear() * baseLoad_.linear().transpose();
-  base_.tiltY = std::asin(std::clamp(r(0, 2), -1.0, 1.0));
-  base_.tiltX = std::atan2(-r(1, 2), r(2, 2));
-  base_.turn = std::atan2(-r(0, 1), r(0, 0));
-  baseTarget_ = base_;
+  return {std::atan2(-r(1, 2), r(2, 2)), std::asin(std::clamp(r(0, 2), -1.0, 1.0)), std::atan2(-r(0, 1), r(0, 0))};
 }
 
 Eigen::Isometry3d SimulationController::basePose(const BaseAngles& a) const {

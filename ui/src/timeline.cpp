@@ -211,10 +211,11 @@ void TimelineView::relayout() {
   updateGeometry();
 }
 
-void TimelineView::setTimes(double playhead, double end, bool past) {
+void TimelineView::setTimes(double playhead, double end, bool past, bool playback) {
   playhead_ = playhead;
   end_ = end;
   past_ = past;
+  playback_ = playback;
   if (followed_) {
     const double span = std::max(5.0, t1_ - t0_);
     if (playhead_ > t1_ - 0.05 * span) {
@@ -396,7 +397,8 @@ void TimelineView::draw(QPainter& p, const QRect& area) const {
   x += 20 + fm.horizontalAdvance(tr("refused"));
   if (past_ && end_ > playhead_) {
     p.setPen(QColor(160, 90, 0));
-    p.drawText(QPoint(x + 8, y + 14), tr("hatched: recorded future; Play from here discards it"));
+    p.drawText(QPoint(x + 8, y + 14), playback_ ? tr("hatched: recorded future; Play replays it")
+                                                : tr("hatched: recorded future; Play from here discards it"));
   }
 }
 

@@ -214,7 +214,8 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
       material->setSpecular(QColor(45, 45, 45));
       material->setShininess(40.0f);
       visualOfPart_[d.index] = parts_.size();
-      parts_.push_back(PartVisual{d.index, d.kind == vaw::view::DrawableKind::Base, entity, transform, material, d.pose, d.color});
+      parts_.push_back(PartVisual{d.index, d.kind == vaw::view::DrawableKind::Base, entity, transform, material, d.pose,
+                                  d.color, d.mesh->bounds});
       partsBounds_.extend(box);
     }
     // Overlays share three unit meshes.
@@ -350,7 +351,7 @@ void Viewport::applyFrame(const vaw::view::Frame& f) {
     const Eigen::Vector3d c = pose * axesShown_->centre;
     for (int k = 0; k < 3; ++k) {
       const Eigen::Vector3d a = pose.linear() * axesShown_->axes.col(k) * axesShown_->halfLengths[k];
-      placeLine(axes_[k], c - a, c + a, 0.6 * r);
+      placeLine(axes_[k], c - a, c + a, 1.0 * r);
     }
     updates += 3;
   } else {
@@ -384,8 +385,14 @@ void Viewport::resetView() {
   autoFit_ = true;
 }
 
+Eigen::AlignedBox3d Viewport::partsBounds() const {
+  Eigen::AlignedBox3d box;
+  for (const PartVisual& v : parts_) box.extend(worldBox(v.local, v.pose));
+  return box;
+}
+
 void Viewport::frame(const Eigen::Vector3d& direction) {
-  Eigen::AlignedBox3d box = partsBounds_.isEmpty() ? allBounds_ : partsBounds_;
+  Eigen::AlignedBox3d box = parts_.empty() ? allBounds_ : partsBounds();
   if (box.isEmpty()) box = Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-0.5), Eigen::Vector3d::Constant(0.5));
   const Eigen::Vector3d centre = box.center();
   const double radius = std::max(0.5 * box.diagonal().norm(), 1e-3);

@@ -79,6 +79,8 @@ class SimulationController : public QObject {
 
   // ---- the base in the left hand ----
   [[nodiscard]] BaseAngles baseAngles() const { return base_; }
+  // The angles of the base as the world holds it now (a recording may have turned it).
+  [[nodiscard]] BaseAngles worldBaseAngles() const;
   [[nodiscard]] BaseAngles baseTarget() const { return baseTarget_; }
   // Where the base goes; it moves there at kBaseRate at most (no jump, so inertial forces stay sane).
   void setBaseTarget(const BaseAngles& target);

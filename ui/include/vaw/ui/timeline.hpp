@@ -67,8 +67,9 @@ class TimelineView : public QWidget {
  public:
   explicit TimelineView(TimelineModel* model, QWidget* parent = nullptr);
 
-  // The playhead and the recording's span (s), and whether the world is before the recording's end.
-  void setTimes(double playhead, double end, bool past);
+  // The playhead and the recording's span (s), whether the world is before the recording's end, and whether
+  // Play replays the recording (an opened session) rather than recording anew from the playhead.
+  void setTimes(double playhead, double end, bool past, bool playback = false);
   [[nodiscard]] double playhead() const { return playhead_; }
   [[nodiscard]] double visibleStart() const { return t0_; }
   [[nodiscard]] double visibleEnd() const { return t1_; }
@@ -110,6 +111,7 @@ class TimelineView : public QWidget {
   std::size_t folded_ = 0;  // parts without a transition
   double playhead_ = 0.0, end_ = 0.0;
   bool past_ = false;
+  bool playback_ = false;
   double t0_ = 0.0, t1_ = 5.0;  // visible time range (s)
   bool followed_ = true;        // the view follows the playhead until the user zooms or pans
   enum class Drag { None, Playhead, Pan } drag_ = Drag::None;

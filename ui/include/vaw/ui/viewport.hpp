@@ -71,8 +71,8 @@ class Viewport : public QWidget {
   [[nodiscard]] QPointF projectToWindow(const Eigen::Vector3d& world) const;
   // The world ray through a window point: origin (on the near plane) and unit direction.
   [[nodiscard]] std::pair<Eigen::Vector3d, Eigen::Vector3d> rayThrough(const QPointF& windowPos) const;
-  // World bounds of everything drawn that belongs to the assembly's parts (m), at load.
-  [[nodiscard]] Eigen::AlignedBox3d partsBounds() const { return partsBounds_; }
+  // World bounds of the parts (m) where the last frame put them.
+  [[nodiscard]] Eigen::AlignedBox3d partsBounds() const;
   // The part being dragged, if any.
   [[nodiscard]] std::optional<vaw::PartId> dragging() const { return grabbing_ ? std::optional(candidate_->part) : std::nullopt; }
 
@@ -100,9 +100,9 @@ class Viewport : public QWidget {
   // Selects `part` (nothing: clears). Emits partSelected when the selection changes; the highlight comes
   // with the next frame (the core's colour rule).
   void selectPart(std::optional<vaw::PartId> part);
-  // Frames the parts, keeping the current view direction.
+  // Frames the parts where they are now, keeping the current view direction.
   void fitToView();
-  // Frames the parts from the default direction (front, right, above; z up).
+  // Frames the parts where they are now from the default direction (front, right, above; z up).
   void resetView();
 
  signals:
@@ -133,6 +133,7 @@ class Viewport : public QWidget {
     Qt3DExtras::QPhongMaterial* material = nullptr;
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     vaw::view::Rgb color;
+    Eigen::AlignedBox3d local;  // mesh bounds, own frame
   };
   // A thin cylinder between two points (lines: drop lines, cable, axes) or a marker.
   struct Overlay {
@@ -174,7 +175,7 @@ class Viewport : public QWidget {
   std::optional<Axes> axesShown_;
   std::size_t lastUpdates_ = 0;
   std::optional<vaw::PartId> selected_;
-  Eigen::AlignedBox3d partsBounds_;
+  Eigen::AlignedBox3d partsBounds_;  // at load: the size of things (line widths)
   Eigen::AlignedBox3d allBounds_;
   QPoint pressPos_;
   bool dragged_ = false;
