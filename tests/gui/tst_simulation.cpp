@@ -79,6 +79,8 @@ class TestSimulation : public QObject {
   void grabMoveReleaseDropsAndRests();
   void playheadDragShowsTheRecordedPast();
   void sessionSavedInTheWindowReplaysBitForBit();
+  void sessionOpensAndPlaysBack();
+  void flickThrowsThePart();
   void twoHandPartRefusesAOneHandGrab();
   void tiltingTheBaseStartsTheBlockOnlyPastTheFrictionAngle();
   void gearReleasedOnItsShaftSwingsWithThePendulumPeriod();
@@ -103,6 +105,8 @@ class TestSimulation : public QObject {
 
   std::unique_ptr<AssemblyController> controller_;
   std::unique_ptr<MainWindow> window_;
+  QTemporaryDir keep_;
+  QString savedSession_;  // a session saved by one test for the next to open
 };
 
 void TestSimulation::initTestCase() {
@@ -283,6 +287,73 @@ void TestSimulation::sessionSavedInTheWindowReplaysBitForBit() {
   QVERIFY2(run.exitCode() == 0, qPrintable(out + QString::fromUtf8(run.readAllStandardError())));
   QVERIFY2(out.contains(QStringLiteral("state hash ") + QString::fromStdString(expected)), qPrintable(out));
   QVERIFY2(out.contains(QStringLiteral("1 edits")), qPrintable(out));
+  // The timeline's exports: the CSV has transitions.csv's columns and rows, the PNG is a picture of it.
+  const QString csv = dir.filePath(QStringLiteral("timeline.csv"));
+  QVERIFY(window_->exportTimelineCsv(csv));
+  QFile exported(csv), reference(dir.filePath(QStringLiteral("out/transitions.csv")));
+  QVERIFY(exported.open(QIODevice::ReadOnly) && reference.open(QIODevice::ReadOnly));
+  QCOMPARE(exported.readAll(), reference.readAll());
+  const QString png = dir.filePath(QStringLiteral("timeline.png"));
+  QVERIFY(window_->exportTimelinePng(png));
+  QVERIFY(QImage(png).width() > 500);
+  savedSession_ = keep_.filePath(QStringLiteral("kept.vaw-session.json"));
+  QFile::remove(savedSession_);
+  QVERIFY(QFile::copy(file, savedSession_));
+}
+
+// Opening the saved session plays it back: paused at its start, Space plays the recorded inputs to the
+// end (the view follows the recording, not the mouse) and stops there, in the state the recording ended.
+void TestSimulation::sessionOpensAndPlaysBack() {
+  QVERIFY(!savedSession_.isEmpty());
+  const auto session = vaw::sim::loadSession(std::filesystem::path(QFile::encodeName(savedSession_).toStdString()));
+  const std::string expected = vaw::sim::hashText(vaw::sim::replay(sim().recorder().scenePtr(), session).stateHash());
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  controller_->open(savedSession_);
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QVERIFY(sim().isPlayback());
+  QVERIFY(!sim().isPlaying());
+  QCOMPARE(world().stepCount(), std::uint64_t{0});
+  QCOMPARE(sim().recorder().length(), session.inputs.size());
+  QVERIFY(window_->timelineDock()->model()->rowCount() > 0);
+  sim().setSpeed(2.0);
+  QWindow* view = viewport()->view3d();
+  view->requestActivate();
+  QTRY_VERIFY(QGuiApplication::focusWindow() == view);
+  QTest::keyClick(view, Qt::Key_Space);
+  QVERIFY(sim().isPlaying());
+  QTRY_VERIFY_WITH_TIMEOUT(!sim().isPlaying(), 30000);
+  QVERIFY(sim().recorder().atEnd());
+  QVERIFY(!sim().isPlayback());  // from here the desktop's hands drive it
+  QCOMPARE(vaw::sim::hashText(world().stateHash()), expected);
+  QCOMPARE(sim().recorder().length(), session.inputs.size());
+}
+
+// A quick drag released while the mouse still moves throws the part: it leaves the hand with the velocity
+// the world's windowed estimate gives and lands well away from where it was let go.
+void TestSimulation::flickThrowsThePart() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  const PartId sleeve = *assembly().findPart("sleeve");
+  const QPoint p0 = onPart(sleeve);
+  QVERIFY(p0.x() >= 0);
+  pressAndDrag(p0, p0 + QPoint(0, -40), 4, 40);  // picked up, held a moment
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), sleeve), QStringLiteral("INHAND"), 3000);
+  QTest::qWait(200);
+  QWindow* w = viewport()->view3d();
+  const QPoint from = p0 + QPoint(0, -40);
+  for (int i = 1; i <= 8; ++i) {  // 240 px in about 100 ms, and let go while moving
+    QTest::mouseMove(w, from + QPoint(-30 * i, 0));
+    QTest::qWait(12);
+  }
+  const Eigen::Vector3d released = world().part(sleeve).pose.translation();
+  QTest::mouseRelease(w, Qt::LeftButton, {}, from + QPoint(-240, 0));
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), sleeve), QStringLiteral("INSPACE"), 3000);
+  const auto& release = world().transitions().back();
+  QCOMPARE(release.event, Event::Release);
+  const double speed = world().part(sleeve).velocity.head<2>().norm();
+  QVERIFY2(speed > 0.3, qPrintable(QString::number(speed)));
+  QTRY_VERIFY_WITH_TIMEOUT(world().part(sleeve).state != PartState::InSpace, 8000);
+  const double carried = (world().part(sleeve).pose.translation() - released).head<2>().norm();
+  QVERIFY2(carried > 0.05, qPrintable(QString::number(carried)));
 }
 
 // The tray of the hoist demo needs both hands: dragging it with one is refused, with the reason in the
@@ -386,9 +457,13 @@ void TestSimulation::gearReleasedOnItsShaftSwingsWithThePendulumPeriod() {
   QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), gear), QStringLiteral("INHAND"), 3000);
   QTest::keyPress(viewport()->view3d(), Qt::Key_Z);
   const Eigen::Vector3d u = Eigen::Vector3d::UnitX();
-  QTRY_VERIFY_WITH_TIMEOUT(std::abs((world().part(gear).pose.linear() * Eigen::Vector3d::UnitZ()).dot(u)) > 0.999, 5000);
+  // Stopped once the gear's axis is within 10 degrees of the shaft's (recognition snaps the rest): a
+  // narrower window could be passed between two looks under load and end a half turn later.
+  const auto alignment = [&] { return std::abs((world().part(gear).pose.linear() * Eigen::Vector3d::UnitZ()).dot(u)); };
+  QTRY_VERIFY_WITH_TIMEOUT(alignment() > std::cos(8.0 * kDeg), 5000);
   QTest::keyRelease(viewport()->view3d(), Qt::Key_Z);
   QTest::qWait(100);
+  QVERIFY2(alignment() > std::cos(10.0 * kDeg), qPrintable(QString::number(std::acos(alignment()) / kDeg)));
   // Rolled about the view's axis (C; the turn is about the hand, so the bore moves, and is put back below)
   // until its centre of mass, which now hangs straight below the bore, is 22-40 degrees out.
   const auto offHanging = [&] {  // the angle of the centre of mass from straight below the bore, about x
