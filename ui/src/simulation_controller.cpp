@@ -119,6 +119,11 @@ void SimulationController::setHoistRates(double metresPerSecond, double radiansP
   hoistYawRate_ = radiansPerSecond;
 }
 
+void SimulationController::setInputSource(InputSource source) {
+  inputSource_ = std::move(source);
+  if (!inputSource_ && recorder_) syncInputs();  // the desktop continues from what the source did last
+}
+
 void SimulationController::requestEdit(const vaw::sim::Edit& edit) {
   commands_.push_back([this, edit] {
     if (!recorder_) return;
@@ -357,7 +362,7 @@ void SimulationController::stepOnceNow() {
     recorder_->playNext();
   } else {
     if (inPast() || playback_) takeOver();
-    const vaw::sim::Input in = nextInput();
+    const vaw::sim::Input in = inputSource_ ? inputSource_(recorder_->timeAt(recorder_->step() + 1)) : nextInput();
     cost.start();
     recorder_->record(in);
   }

@@ -94,6 +94,14 @@ class SimulationController : public QObject {
   void setHoistYaw(double radians);
   void setHoistRates(double metresPerSecond, double radiansPerSecond);
 
+  // ---- another source of input (the headset's tracked hands) ----
+  // When set, every live step takes its input from `source` instead of the desktop's mouse and keys; the
+  // source is given the simulated time at the end of the step (s) so it can sample its hands for that
+  // moment. Playback of a recording is unaffected. An empty function gives the desktop back its hands.
+  using InputSource = std::function<vaw::sim::Input(double stepEndTime)>;
+  void setInputSource(InputSource source);
+  [[nodiscard]] bool hasInputSource() const { return static_cast<bool>(inputSource_); }
+
   // ---- edits (gravity, friction, method, rate) ----
   // Queued to the next step boundary; editApplied or editRefused says what came of it.
   void requestEdit(const vaw::sim::Edit& edit);
@@ -148,6 +156,7 @@ class SimulationController : public QObject {
   bool playback_ = false;
   qint64 lastStepNs_ = 0;
   std::deque<std::function<void()>> commands_;
+  InputSource inputSource_;
 
   // Desktop inputs, read at each step.
   Eigen::Isometry3d hand_ = Eigen::Isometry3d::Identity();
