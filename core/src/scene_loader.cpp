@@ -232,7 +232,7 @@ class SceneReader {
       version.fail("version 1 to " + std::to_string(kSceneFormatVersion) + " (the versions this vaw reads)");
     if (v >= 2)
       root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment",
-                      "constraints", "tools"});
+                      "constraints", "tools", "settings"});
     else
       root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment",
                       "constraints"});
@@ -264,6 +264,7 @@ class SceneReader {
     if (auto env = root.opt("environment")) readEnvironment(*env);
     if (auto cons = root.opt("constraints")) readConstraints(*cons);
     if (auto tools = root.opt("tools")) readTools(*tools);
+    if (auto settings = root.opt("settings")) readSettings(*settings);
     progress_.report(1.0, "done");
     return std::move(assembly_);
   }
@@ -518,6 +519,73 @@ class SceneReader {
       con.name = c.has("name") ? c.get("name").string() : type + " " + partNode.string();
       checkAtFinalPose(con, c);
       assembly_.constraints.push_back(con);
+    }
+  }
+
+  FrictionValues readFriction(const Node& f) {
+    f.requireObject();
+    f.allowOnly({"static", "kinetic", "rotational"});
+    FrictionValues v{f.get("static").nonNegative(), 0.0, 0.0};
+    const Node kin = f.get("kinetic");
+    v.kineticFriction = kin.nonNegative();
+    if (v.kineticFriction > v.staticFriction)
+      kin.fail("a kinetic coefficient no larger than the static one (" + toString(v.staticFriction) + ")");
+    if (auto r = f.opt("rotational")) v.rotationalFriction = r->nonNegative();
+    return v;
+  }
+
+  // The tuning saved with the scene: it replaces the defaults and the materials' friction.
+  void readSettings(const Node& n) {
+    n.requireObject();
+    n.allowOnly({"rate", "gravity_scale", "rotation_method", "friction"});
+    SceneSettings& s = assembly_.settings;
+    if (auto r = n.opt("rate")) {
+      const double rate = r->positive();
+      if (rate < 1.0 || rate > 10000.0) r->fail("a step rate from 1 to 10000 Hz");
+      s.rate = rate;
+    }
+    if (auto g = n.opt("gravity_scale")) {
+      g->requireObject();
+      g->allowOnly({"free_flight", "slide", "rotation"});
+      const auto scale = [](const Node& x) {
+        const double v = x.nonNegative();
+        if (v > 10.0) x.fail("a gravity scale from 0 to 10");
+        return v;
+      };
+      if (auto x = g->opt("free_flight")) s.freeFlightScale = scale(*x);
+      if (auto x = g->opt("slide")) s.slideScale = scale(*x);
+      if (auto x = g->opt("rotation")) s.rotationScale = scale(*x);
+    }
+    if (auto m = n.opt("rotation_method")) {
+      const std::string method = m->string();
+      if (method != "paper-explicit" && method != "semi-implicit-euler" && method != "velocity-verlet" && method != "rk4")
+        m->fail("a method rotation can use: paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
+      s.rotationMethod = method;
+    }
+    if (auto f = n.opt("friction")) {
+      f->requireObject();
+      f->allowOnly({"materials", "parts"});
+      if (auto mats = f->opt("materials")) {
+        mats->requireObject();
+        for (const auto& [key, value] : mats->json().items()) {
+          const Node m(value, mats->path() + "." + key, file_);
+          const auto it = assembly_.materials.find(key);
+          if (it == assembly_.materials.end()) m.fail("the name of a material in this scene");
+          const FrictionValues v = readFriction(m);
+          it->second.staticFriction = v.staticFriction;
+          it->second.kineticFriction = v.kineticFriction;
+          it->second.rotationalFriction = v.rotationalFriction;
+        }
+      }
+      if (auto parts = f->opt("parts")) {
+        parts->requireObject();
+        for (const auto& [key, value] : parts->json().items()) {
+          const Node p(value, parts->path() + "." + key, file_);
+          const auto id = assembly_.findPart(key);
+          if (!id) p.fail("the name of a part in this scene");
+          s.partFriction[*id] = readFriction(p);
+        }
+      }
     }
   }
 

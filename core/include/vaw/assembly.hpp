@@ -86,6 +86,24 @@ struct Hoist {
   double height = 1.0;    // m, where the hook hangs at load
 };
 
+// The three friction coefficients of a material, or of one part's override of its material's.
+struct FrictionValues {
+  double staticFriction = 0.3;      // f_s
+  double kineticFriction = 0.2;     // f_d <= f_s
+  double rotationalFriction = 0.0;  // f_r, N m s
+  friend bool operator==(const FrictionValues&, const FrictionValues&) = default;
+};
+
+// The tuning a scene file carries in its "settings" block (docs/scene-format.md, version 2): what the
+// simulation starts with when the scene is opened. Material friction set there is already in
+// Assembly::materials; what is unset here takes the simulation's defaults.
+struct SceneSettings {
+  std::optional<double> rate;  // Hz
+  std::optional<double> freeFlightScale, slideScale, rotationScale;
+  std::optional<std::string> rotationMethod;  // a method name (dynamics/integrators.hpp)
+  std::map<PartId, FrictionValues> partFriction;  // per-part overrides of their material's friction
+};
+
 // The scene tree as the file wrote it: groups, parts, environment objects.
 struct TreeNode {
   // MeshNode children of a Part are the nodes of its mesh file (names only; geometry is merged).
@@ -106,6 +124,7 @@ struct Assembly {
   std::vector<EnvironmentObject> environment;
   std::vector<Constraint> constraints;
   std::vector<Hoist> hoists;
+  SceneSettings settings;
   TreeNode tree;
   Diagnostics warnings;
   CategorySettings categorySettings;

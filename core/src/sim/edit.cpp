@@ -18,7 +18,9 @@ std::string frictionText(const FrictionValues& f) {
          num(f.rotationalFriction) + " N m s";
 }
 
-std::string checkFriction(const FrictionValues& f) {
+}  // namespace
+
+std::string validateFriction(const FrictionValues& f) {
   const auto bad = [](double v) { return !std::isfinite(v); };
   if (bad(f.staticFriction) || bad(f.kineticFriction) || bad(f.rotationalFriction))
     return "friction coefficients must be numbers (found static " + num(f.staticFriction) + ", kinetic " +
@@ -32,8 +34,6 @@ std::string checkFriction(const FrictionValues& f) {
            num(f.staticFriction) + ")";
   return {};
 }
-
-}  // namespace
 
 bool rotationSupports(dyn::Method m) { return m != dyn::Method::Exact; }
 
@@ -65,11 +65,11 @@ std::string validate(const Edit& e, const Assembly& assembly) {
   }
   if (const auto* m = std::get_if<MaterialFrictionEdit>(&e)) {
     if (!assembly.materials.contains(m->material)) return "no material named \"" + m->material + "\" in this scene";
-    return checkFriction(m->friction);
+    return validateFriction(m->friction);
   }
   if (const auto* p = std::get_if<PartFrictionEdit>(&e)) {
     if (p->part >= assembly.parts.size()) return "no part " + std::to_string(p->part) + " in this scene";
-    return p->friction ? checkFriction(*p->friction) : std::string();
+    return p->friction ? validateFriction(*p->friction) : std::string();
   }
   if (const auto* m = std::get_if<MethodEdit>(&e)) {
     if (!rotationSupports(m->rotation))

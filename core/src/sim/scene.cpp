@@ -36,6 +36,8 @@ std::uint64_t hashOf(const Assembly& a) {
     h = add(add(add(add(h, p.material), p.mass.mass), p.mass.centerOfMass), p.mass.inertiaCm);
     h = add(h, static_cast<double>(p.category.category));
   }
+  for (const auto& [id, f] : a.settings.partFriction)
+    h = add(add(add(add(h, static_cast<double>(id)), f.staticFriction), f.kineticFriction), f.rotationalFriction);
   h = add(h, a.base ? static_cast<double>(*a.base) : -1.0);
   for (const EnvironmentObject& e : a.environment) h = add(add(add(h, e.name), e.mesh.get()), e.pose);
   for (const Constraint& c : a.constraints) {

@@ -13,6 +13,17 @@ using detail::kDeg;
 using interact::Event;
 using interact::PartState;
 
+Settings settingsFor(const Assembly& assembly) {
+  Settings s;
+  const SceneSettings& in = assembly.settings;
+  if (in.rate) s.rate = *in.rate;
+  if (in.freeFlightScale) s.gravity.freeFlight = *in.freeFlightScale;
+  if (in.slideScale) s.gravity.slide = *in.slideScale;
+  if (in.rotationScale) s.gravity.rotation = *in.rotationScale;
+  if (in.rotationMethod) dyn::parseMethod(*in.rotationMethod, s.rotationMethod);
+  return s;
+}
+
 World::Impl::Impl(std::shared_ptr<const Scene> s, Settings st)
     : scene(std::move(s)), assembly(scene->assembly()), collision(scene->collision().instance()) {
   settings = st;
@@ -31,6 +42,7 @@ World::Impl::Impl(std::shared_ptr<const Scene> s, Settings st)
   for (const auto& [name, m] : assembly.materials)
     materials[name] = FrictionValues{m.staticFriction, m.kineticFriction, m.rotationalFriction};
   overrides.resize(assembly.parts.size());
+  for (const auto& [id, f] : assembly.settings.partFriction) overrides[id] = f;
   parts.resize(assembly.parts.size());
   models.resize(assembly.parts.size());
   dirty.assign(assembly.parts.size(), 0);

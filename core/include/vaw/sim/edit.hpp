@@ -19,13 +19,7 @@
 
 namespace vaw::sim {
 
-// The three friction coefficients of a material (or of one part's override).
-struct FrictionValues {
-  double staticFriction = 0.3;      // f_s
-  double kineticFriction = 0.2;     // f_d <= f_s
-  double rotationalFriction = 0.0;  // f_r, N m s
-  friend bool operator==(const FrictionValues&, const FrictionValues&) = default;
-};
+using vaw::FrictionValues;
 
 struct GravityEdit {
   dyn::GravityScales scales;
@@ -60,6 +54,8 @@ std::string describe(const Edit& e, const Assembly& assembly);
 
 // Empty when `e` is valid for `assembly`; otherwise which rule it breaks, with the value.
 std::string validate(const Edit& e, const Assembly& assembly);
+// The same rules for a set of friction coefficients alone (the scene loader's and the panels' check).
+std::string validateFriction(const FrictionValues& f);
 
 // The methods rotation about an axis can use (its torque depends on the angle: no closed form).
 bool rotationSupports(dyn::Method m);

@@ -51,6 +51,9 @@ struct Settings {
   [[nodiscard]] double step() const { return 1.0 / rate; }
 };
 
+// The defaults with what the scene's "settings" block sets (rate, gravity scales, rotation method).
+Settings settingsFor(const Assembly& assembly);
+
 struct HandInput {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // world
   bool grab = false;

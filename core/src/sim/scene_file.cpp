@@ -1,0 +1,96 @@
+#include "vaw/sim/scene_file.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <system_error>
+
+#include "vaw/error.hpp"
+
+namespace vaw::sim {
+
+namespace {
+
+using Ordered = nlohmann::ordered_json;
+
+Ordered frictionJson(const FrictionValues& f) {
+  return Ordered{{"static", f.staticFriction}, {"kinetic", f.kineticFriction}, {"rotational", f.rotationalFriction}};
+}
+
+// A relative path written for `from`'s folder, rewritten for `to`'s.
+std::string rebase(const std::string& path, const std::filesystem::path& from, const std::filesystem::path& to) {
+  const std::filesystem::path p(path);
+  if (p.is_absolute() || from == to) return path;
+  const std::filesystem::path absolute = (from / p).lexically_normal();
+  const std::filesystem::path relative = absolute.lexically_relative(to);
+  return relative.empty() ? absolute.string() : relative.generic_string();
+}
+
+void rebaseNodes(Ordered& list, const std::filesystem::path& from, const std::filesystem::path& to) {
+  if (!list.is_array()) return;
+  for (Ordered& item : list) {
+    if (!item.is_object()) continue;
+    for (const char* key : {"mesh", "properties"})
+      if (item.contains(key) && item[key].is_string()) item[key] = rebase(item[key].get<std::string>(), from, to);
+    if (item.contains("children")) rebaseNodes(item["children"], from, to);
+  }
+}
+
+}  // namespace
+
+void saveScene(const Assembly& loaded, const World& world, const std::filesystem::path& target) {
+  const std::string source = loaded.source.string();
+  std::ifstream in(loaded.source, std::ios::binary);
+  if (!in) fail(source, "", "the scene file the assembly was loaded from, readable (it is saved from it)");
+  std::stringstream text;
+  text << in.rdbuf();
+  Ordered json;
+  try {
+    json = Ordered::parse(text.str());
+  } catch (const std::exception& e) {
+    fail(source, "", "the scene file as it was loaded (it changed on disk since)", e.what());
+  }
+  const std::filesystem::path fromDir = std::filesystem::absolute(loaded.source).parent_path();
+  const std::filesystem::path toDir = std::filesystem::absolute(target).parent_path();
+  if (json.contains("parts")) rebaseNodes(json["parts"], fromDir, toDir);
+  if (json.contains("environment")) rebaseNodes(json["environment"], fromDir, toDir);
+  json["version"] = 2;
+
+  const Settings& s = world.settings();
+  Ordered materials = Ordered::object();
+  for (const auto& [name, m] : loaded.materials) materials[name] = frictionJson(world.materialFriction(name));
+  Ordered parts = Ordered::object();
+  for (PartId id = 0; id < loaded.parts.size(); ++id) {
+    const FrictionValues f = world.friction(id);
+    if (!(f == world.materialFriction(loaded.parts[id].material))) parts[loaded.parts[id].name] = frictionJson(f);
+  }
+  Ordered friction{{"materials", materials}};
+  if (!parts.empty()) friction["parts"] = parts;
+  json["settings"] = Ordered{{"rate", s.rate},
+                             {"gravity_scale",
+                              {{"free_flight", s.gravity.freeFlight}, {"slide", s.gravity.slide}, {"rotation", s.gravity.rotation}}},
+                             {"rotation_method", std::string(dyn::name(s.rotationMethod))},
+                             {"friction", friction}};
+
+  const std::filesystem::path temporary = target.string() + ".saving";
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    if (!out) fail(target.string(), "", "a folder vaw may write the scene into");
+    out << json.dump(2) << '\n';
+    out.flush();
+    if (!out) {
+      std::error_code ignored;
+      std::filesystem::remove(temporary, ignored);
+      fail(target.string(), "", "room to write the scene (the write failed; the previous file is kept)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temporary, target, ec);
+  if (ec) {
+    std::filesystem::remove(temporary, ec);
+    fail(target.string(), "", "a file vaw may replace", ec.message());
+  }
+}
+
+}  // namespace vaw::sim
