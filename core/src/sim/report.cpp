@@ -1,5 +1,8 @@
 #include "vaw/sim/report.hpp"
 
+#include <cmath>
+#include <cstdio>
+
 #include "vaw/units.hpp"
 
 namespace vaw::sim {
@@ -13,6 +16,46 @@ std::string_view name(Holder h) {
     case Holder::Hoist: return "hoist";
   }
   return "?";
+}
+
+std::optional<StabilityAdvice> stabilityAdvice(const World& world, PartId id) {
+  const auto report = world.rotationStability(id);
+  if (!report) return std::nullopt;
+  StabilityAdvice a;
+  a.report = *report;
+  const dyn::Method method = world.settings().rotationMethod;
+  const double rate = world.settings().rate;
+  if (!report->stable) a.level = StabilityAdvice::Level::Unstable;
+  else if (report->margin < StabilityAdvice::kSafeMargin) a.level = StabilityAdvice::Level::NearLimit;
+  const double wn = report->wnDt * rate;
+  if (report->limitWnDt > 0.0 && wn > 0.0)
+    a.safeRate = std::ceil(wn * StabilityAdvice::kSafeMargin / report->limitWnDt);
+  // A method that is safe at this rate, the most accurate first; judged undamped, the conservative case.
+  for (const dyn::Method m : {dyn::Method::RK4, dyn::Method::VelocityVerlet, dyn::Method::SemiImplicitEuler}) {
+    if (m == method || !rotationSupports(m)) continue;
+    const auto r = dyn::checkStability(m, wn, 0.0, 1.0 / rate);
+    if (r.stable && r.margin >= StabilityAdvice::kSafeMargin) {
+      a.safeMethod = m;
+      break;
+    }
+  }
+  char buf[320];
+  const std::string mname(dyn::name(method));
+  if (a.level == StabilityAdvice::Level::Stable) {
+    std::snprintf(buf, sizeof buf, "%s at %g Hz is stable for this swing (wn*dt %.3g, %.1fx below its limit)",
+                  mname.c_str(), rate, report->wnDt, report->margin);
+  } else {
+    std::string fix;
+    if (a.safeRate && (report->limitWnDt > 0.0)) fix = "a rate of " + std::to_string(static_cast<long long>(*a.safeRate)) + " Hz";
+    if (a.safeMethod) fix += (fix.empty() ? "" : " or ") + std::string(dyn::name(*a.safeMethod)) + " at this rate";
+    if (fix.empty()) fix = "another method";
+    std::snprintf(buf, sizeof buf, "%s at %g Hz is %s for this swing (wn*dt %.3g, limit %.3g): the amplitude %s x%.3g per second; use %s",
+                  mname.c_str(), rate, a.level == StabilityAdvice::Level::Unstable ? "UNSTABLE" : "near its stability limit",
+                  report->wnDt, report->limitWnDt, report->growthPerSecond >= 1.0 ? "grows" : "changes", report->growthPerSecond,
+                  fix.c_str());
+  }
+  a.text = buf;
+  return a;
 }
 
 PartReport report(const World& world, PartId id) {
@@ -76,6 +119,7 @@ PartReport report(const World& world, PartId id) {
     }
   // Time in the state: since the end of the step it was entered in (the state lasts from there).
   out.timeInState = world.time() - (out.lastTransition ? out.lastTransition->t : 0.0);
+  out.stability = stabilityAdvice(world, id);
   return out;
 }
 

@@ -284,3 +284,31 @@ void World::Impl::checkStart(PartId id) {
 }
 
 }  // namespace vaw::sim
+
+namespace vaw::sim {
+
+std::optional<dyn::StabilityReport> World::rotationStability(PartId id) const {
+  const Impl& w = *impl_;
+  if (id >= w.parts.size() || !w.base) return std::nullopt;
+  const PartRuntime& r = w.parts[id];
+  const Part& d = w.def(id);
+  std::optional<dyn::Hinge> hinge;
+  if (r.model == Model::Cylindrical && w.models[id].hinge) {
+    hinge = w.models[id].hinge;
+  } else {
+    const auto c = std::find_if(w.assembly.constraints.begin(), w.assembly.constraints.end(), [&](const Constraint& k) {
+      return k.part == id && k.type == Constraint::Type::Insert;
+    });
+    if (c == w.assembly.constraints.end()) return std::nullopt;
+    // Where it would turn: at its assembled pose relative to the base (the load pose without one).
+    const Eigen::Isometry3d inBase = w.baseLoad.inverse() * d.finalPose.value_or(d.pose);
+    hinge = dyn::Hinge::make(c->baseAxis.point, c->baseAxis.direction, inBase, d.mass.mass, d.mass.centerOfMass,
+                             d.mass.inertiaCm, w.friction(id).rotationalFriction);
+  }
+  if (!hinge || hinge->inertia() <= 0.0) return std::nullopt;
+  const dyn::HingeTorque tq = hinge->torque(w.basePose.linear(), w.gravity(w.settings.gravity.rotation));
+  return dyn::checkStability(w.settings.rotationMethod, hinge->naturalFrequency(tq), hinge->friction() / hinge->inertia(),
+                             w.h());
+}
+
+}  // namespace vaw::sim

@@ -10,6 +10,20 @@
 
 namespace vaw::sim {
 
+// Whether the rotation method and rate can integrate a part's swing (World::rotationStability), and what
+// would make it safe: the lowest rate that keeps a margin of kSafeMargin with this method, or a method
+// that is safe at this rate.
+struct StabilityAdvice {
+  static constexpr double kSafeMargin = 1.5;  // "near the limit" below this ratio of the limit to wn*dt
+  enum class Level { Stable, NearLimit, Unstable };
+  Level level = Level::Stable;
+  dyn::StabilityReport report;
+  std::optional<double> safeRate;         // Hz, a whole number
+  std::optional<dyn::Method> safeMethod;  // at the current rate
+  std::string text;                       // one line for the status bar and the inspector
+};
+std::optional<StabilityAdvice> stabilityAdvice(const World& world, PartId part);
+
 struct PartReport {
   interact::PartState state = interact::PartState::Static;
   double timeInState = 0.0;  // s
@@ -28,6 +42,7 @@ struct PartReport {
   double potentialEnergy = 0.0;  // J, m g z of the centre of mass under standard gravity (z = 0: world origin)
   std::optional<TransitionRecord> lastTransition;
   std::optional<Refusal> lastRefusal;
+  std::optional<StabilityAdvice> stability;  // parts that turn on a shaft
 };
 
 PartReport report(const World& world, PartId part);

@@ -17,6 +17,7 @@
 
 #include "vaw/assembly.hpp"
 #include "vaw/dynamics/gravity.hpp"
+#include "vaw/dynamics/stability.hpp"
 #include "vaw/dynamics/free_flight.hpp"
 #include "vaw/dynamics/integrators.hpp"
 #include "vaw/hash.hpp"
@@ -173,6 +174,11 @@ class World {
   [[nodiscard]] std::optional<PartId> onHoist() const;
   // What the release estimator would give for a held part if it were let go now.
   [[nodiscard]] std::optional<interact::Twist> releaseVelocity(PartId id) const;
+  // The linear stability of the rotation method at the current rate for a part that turns on a shaft: the
+  // hinge it is on now, or, for a part with an insert constraint that is not on it yet, the hinge it would
+  // be on at its assembled pose, under the base's current orientation and the rotation's gravity. The
+  // workbench warns with it before a part explodes (dynamics/stability.hpp). None for other parts.
+  [[nodiscard]] std::optional<dyn::StabilityReport> rotationStability(PartId id) const;
   // The free-flight rotation model chosen at release, for a part in flight.
   [[nodiscard]] std::optional<dyn::RotationModel> flightRotation(PartId id) const;
   // The first surface straight below `point` (world) within `depth` (m), ignoring part `except`: a point
