@@ -16,6 +16,7 @@
 #include <string>
 
 #include "vaw/paths.hpp"
+#include "vaw/version.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/simulation_controller.hpp"
@@ -53,8 +54,14 @@ void screenshotWhenRendered(vaw::ui::MainWindow& window, const QString& file) {
 int main(int argc, char** argv) {
   // Qt3D's OpenGL renderer: captures come out the right way up, and it runs on Mesa's llvmpipe.
   if (qEnvironmentVariableIsEmpty("QT3D_RENDERER")) qputenv("QT3D_RENDERER", "opengl");
+  // --help and --version print and exit: they must work without a display (a terminal over ssh, CI).
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h" || a == "--help-all" || a == "--version" || a == "-v") qputenv("QT_QPA_PLATFORM", "offscreen");
+  }
   QApplication app(argc, argv);
   QApplication::setApplicationName(QStringLiteral("vaw"));
+  QApplication::setApplicationVersion(QString::fromLatin1(vaw::kVersion));
   QApplication::setApplicationDisplayName(QStringLiteral("Virtual Assembly Workbench"));
   QApplication::setOrganizationName(QStringLiteral("vaw"));
   // Matches packaging/io.github.vaw.Workbench.desktop and its icon.
@@ -64,6 +71,7 @@ int main(int argc, char** argv) {
   QCommandLineParser parser;
   parser.setApplicationDescription(QStringLiteral("Virtual Assembly Workbench"));
   parser.addHelpOption();
+  parser.addVersionOption();
   parser.addPositionalArgument(QStringLiteral("file"),
                                QStringLiteral("Scene (.vaw.json), mesh or recorded session (.vaw-session.json) to open; "
                                               "default: the bundled demo."),

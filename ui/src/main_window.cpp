@@ -3,6 +3,15 @@
 #include <QAction>
 #include <QActionGroup>
 #include <QCheckBox>
+#include <QCloseEvent>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QMessageBox>
+#include <QPushButton>
+#include <QSettings>
+#include <QTextBrowser>
+#include <QUndoStack>
+#include <QVBoxLayout>
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
@@ -16,7 +25,9 @@
 #include "format.hpp"
 #include "vaw/error.hpp"
 #include "vaw/sim/report.hpp"
+#include "vaw/sim/scene_file.hpp"
 #include "vaw/sim/session.hpp"
+#include "vaw/version.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/load_feedback.hpp"
@@ -24,12 +35,16 @@
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/timeline.hpp"
+#include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
 
 namespace vaw::ui {
 
 namespace {
 constexpr int kLiveIntervalMs = 100;  // inspector, timeline playhead and status while running
+constexpr int kMaxRecent = 8;
+
+bool isSceneFile(const QString& path) { return path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive) && !path.endsWith(QStringLiteral(".vaw-session.json")); }
 }
 
 MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
@@ -44,21 +59,43 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   messagesDock_ = new MessagesDock(this);
   controlsDock_ = new ControlsDock(this);
   timelineDock_ = new TimelineDock(this);
+  gravityDock_ = new GravityDock(this);
+  frictionDock_ = new FrictionDock(this);
+  methodsDock_ = new MethodsDock(this);
+  undoStack_ = new QUndoStack(this);
   addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
   addDockWidget(Qt::LeftDockWidgetArea, partDock_);
   addDockWidget(Qt::RightDockWidgetArea, controlsDock_);
+  addDockWidget(Qt::RightDockWidgetArea, gravityDock_);
+  addDockWidget(Qt::RightDockWidgetArea, frictionDock_);
+  addDockWidget(Qt::RightDockWidgetArea, methodsDock_);
+  tabifyDockWidget(controlsDock_, gravityDock_);
+  tabifyDockWidget(gravityDock_, frictionDock_);
+  tabifyDockWidget(frictionDock_, methodsDock_);
+  controlsDock_->raise();
   addDockWidget(Qt::BottomDockWidgetArea, timelineDock_);
   addDockWidget(Qt::BottomDockWidgetArea, messagesDock_);
   tabifyDockWidget(timelineDock_, messagesDock_);
   timelineDock_->raise();
   resizeDocks({sceneDock_, partDock_}, {220, 480}, Qt::Vertical);
-  resizeDocks({sceneDock_, controlsDock_}, {380, 230}, Qt::Horizontal);
+  resizeDocks({sceneDock_, controlsDock_}, {380, 330}, Qt::Horizontal);
   resizeDocks({timelineDock_}, {190}, Qt::Vertical);
   loadFeedback_ = new LoadFeedback(controller_, this);
   status_ = new QLabel(this);
   status_->setObjectName(QStringLiteral("simulationStatus"));
+  stabilityStatus_ = new QLabel(this);
+  stabilityStatus_->setObjectName(QStringLiteral("stabilityStatus"));
+  stabilityStatus_->setStyleSheet(QStringLiteral("color: rgb(180, 40, 20); font-weight: bold;"));
+  stabilityStatus_->hide();
+  statusBar()->addPermanentWidget(stabilityStatus_);
   statusBar()->addPermanentWidget(status_);
   createMenus();
+  {
+    // Where the user left the window and its docks (a closed dock stays closed).
+    QSettings settings;
+    restoreGeometry(settings.value(QStringLiteral("window/geometry")).toByteArray());
+    restoreState(settings.value(QStringLiteral("window/state")).toByteArray());
+  }
   liveTimer_.setSingleShot(true);
   connect(&liveTimer_, &QTimer::timeout, this, &MainWindow::updateLive);
   lastLive_.start();
@@ -95,6 +132,15 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   connect(controlsDock_, &ControlsDock::hoistEngagedChanged, simulation_, &SimulationController::setHoistEngaged);
   connect(controlsDock_, &ControlsDock::hoistHeightChanged, simulation_, &SimulationController::setHoistHeight);
   connect(controlsDock_, &ControlsDock::hoistYawChanged, simulation_, &SimulationController::setHoistYaw);
+  // The tuning panels ask; the undo stack and the simulation's queue do.
+  connect(gravityDock_, &GravityDock::editRequested, this, &MainWindow::requestTuning);
+  connect(methodsDock_, &MethodsDock::editRequested, this, &MainWindow::requestTuning);
+  connect(frictionDock_->model(), &FrictionModel::editRequested, this,
+          [this](const vaw::sim::Edit& e) { requestTuning(e, -1); });
+  connect(frictionDock_->model(), &FrictionModel::refused, this, [this](const QString& rule) {
+    statusBar()->showMessage(tr("Refused: %1").arg(rule), 10000);
+  });
+  connect(undoStack_, &QUndoStack::cleanChanged, this, &MainWindow::updateTitle);
   connect(partDock_, &PartDock::axesToggled, this, [this](bool shown) {
     axesShown_ = shown;
     showSelection(viewport_->selectedPart());
@@ -111,6 +157,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   });
   connect(simulation_, &SimulationController::editApplied, this, [this](const QString& text) {
     message(static_cast<int>(MessageLogModel::Severity::Info), tr("Edit applied: %1").arg(text));
+    updateTuning();
   });
   connect(simulation_, &SimulationController::editRefused, this, [this](const QString& text) {
     message(static_cast<int>(MessageLogModel::Severity::Warning), tr("Edit refused: %1").arg(text));
@@ -175,10 +222,22 @@ void MainWindow::createMenus() {
   QMenu* file = menuBar()->addMenu(tr("&File"));
   QAction* open = file->addAction(tr("&Open..."), this, &MainWindow::openFileDialog);
   open->setShortcut(QKeySequence::Open);
+  recentMenu_ = file->addMenu(tr("Open &Recent"));
+  recentMenu_->setObjectName(QStringLiteral("recentMenu"));
+  updateRecentMenu();
   reloadAction_ = file->addAction(tr("&Reload"), &controller_, &AssemblyController::reload);
   reloadAction_->setShortcut(QKeySequence::Refresh);
   reloadAction_->setEnabled(false);
   file->addSeparator();
+  saveAction_ = file->addAction(tr("&Save"), this, &MainWindow::save);
+  saveAction_->setObjectName(QStringLiteral("saveAction"));
+  saveAction_->setShortcut(QKeySequence::Save);
+  saveAction_->setToolTip(tr("Save the scene with its tuning (gravity, friction, methods, rate)"));
+  saveAction_->setEnabled(false);
+  saveAsAction_ = file->addAction(tr("Save &As..."), this, &MainWindow::saveAs);
+  saveAsAction_->setObjectName(QStringLiteral("saveAsAction"));
+  saveAsAction_->setShortcut(QKeySequence(tr("Ctrl+Alt+S")));
+  saveAsAction_->setEnabled(false);
   QAction* save = file->addAction(tr("Save &Session..."), this, &MainWindow::saveSessionDialog);
   save->setObjectName(QStringLiteral("saveSessionAction"));
   save->setShortcut(QKeySequence(tr("Ctrl+Shift+S")));
@@ -187,6 +246,16 @@ void MainWindow::createMenus() {
   file->addSeparator();
   QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
+
+  QMenu* edit = menuBar()->addMenu(tr("&Edit"));
+  QAction* undo = undoStack_->createUndoAction(this, tr("&Undo"));
+  undo->setShortcut(QKeySequence::Undo);
+  undo->setObjectName(QStringLiteral("undoAction"));
+  QAction* redo = undoStack_->createRedoAction(this, tr("&Redo"));
+  redo->setShortcuts({QKeySequence::Redo, QKeySequence(tr("Ctrl+Y"))});
+  redo->setObjectName(QStringLiteral("redoAction"));
+  edit->addAction(undo);
+  edit->addAction(redo);
 
   // The simulation's keys work wherever the focus is in the window (the viewport forwards them).
   QMenu* sim = menuBar()->addMenu(tr("&Simulation"));
@@ -220,6 +289,15 @@ void MainWindow::createMenus() {
   view->addAction(controlsDock_->toggleViewAction());
   view->addAction(timelineDock_->toggleViewAction());
   view->addAction(messagesDock_->toggleViewAction());
+  view->addAction(gravityDock_->toggleViewAction());
+  view->addAction(frictionDock_->toggleViewAction());
+  view->addAction(methodsDock_->toggleViewAction());
+
+  QMenu* help = menuBar()->addMenu(tr("&Help"));
+  QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);
+  bindings->setShortcut(QKeySequence::HelpContents);
+  bindings->setObjectName(QStringLiteral("bindingsAction"));
+  help->addAction(tr("&About vaw"), this, &MainWindow::showAbout)->setObjectName(QStringLiteral("aboutAction"));
 
   QToolBar* bar = addToolBar(tr("Simulation"));
   bar->setObjectName(QStringLiteral("simulationToolBar"));
@@ -238,7 +316,12 @@ void MainWindow::openFileDialog() {
   filters.insert(1, tr("Sessions (*.vaw-session.json)"));
   const QString path = QFileDialog::getOpenFileName(this, tr("Open scene, mesh or session"), start,
                                                     filters.join(QStringLiteral(";;")));
-  if (!path.isEmpty()) controller_.open(path);
+  if (!path.isEmpty()) openFile(path);
+}
+
+void MainWindow::openFile(const QString& path) {
+  if (!maybeSave()) return;
+  controller_.open(path);
 }
 
 void MainWindow::saveSessionDialog() {
@@ -298,15 +381,20 @@ void MainWindow::assemblyLoaded() {
       message(static_cast<int>(MessageLogModel::Severity::Error), tr("The session cannot be played: %1").arg(e.what()));
     }
   }
-  if (!playback) simulation_->start(controller_.scene(), controller_.sceneReference());
+  // A scene starts with the tuning its settings block saved.
+  if (!playback)
+    simulation_->start(controller_.scene(), controller_.sceneReference(), vaw::sim::settingsFor(controller_.scene()->assembly()));
   sceneDock_->setAssembly(assembly, controller_.collisionInfo());
   partDock_->showPart(assembly, std::nullopt);
   if (assembly == nullptr) return;
   // After a reload, the part that was selected stays selected (by name: ids may change).
   if (!keepName.empty() && keepFrom == controller_.currentPath()) viewport_->selectPart(assembly->findPart(keepName));
+  scenePath_ = isSceneFile(controller_.currentPath()) ? controller_.currentPath() : QString();
+  saveAction_->setEnabled(true);
+  saveAsAction_->setEnabled(true);
+  addRecent(controller_.currentPath());
   for (const auto& warning : assembly->warnings) messagesDock_->model()->add(warning);
-  const QString name = QString::fromStdString(assembly->name);
-  setWindowTitle(tr("%1 - vaw").arg(name.isEmpty() ? QFileInfo(controller_.currentPath()).fileName() : name));
+  updateTitle();
   const QString summary = tr("Opened %1: %n part(s)", nullptr, static_cast<int>(assembly->parts.size()))
                               .arg(QFileInfo(controller_.currentPath()).fileName()) +
                           tr(", %n triangle(s)", nullptr, static_cast<int>(assembly->totalTriangles())) +
@@ -327,8 +415,10 @@ void MainWindow::simulationStarted() {
   controlsDock_->setHoist(simulation_->world().hoist());
   controlsDock_->showBaseTarget(simulation_->baseTarget());
   timelineDock_->model()->clear();
+  undoStack_->clear();  // its edits were of the previous world
   logChanged();
   updateLive();
+  updateTitle();
 }
 
 void MainWindow::showSelection(std::optional<vaw::PartId> part) {
@@ -371,7 +461,220 @@ void MainWindow::updateLive() {
   controlsDock_->showBaseTarget(recorded ? simulation_->worldBaseAngles() : simulation_->baseTarget());
   if (simulation_->world().hoist())
     controlsDock_->showHoist(recorded ? simulation_->world().lastInput().hoist : simulation_->hoist());
+  updateTuning();
   updateStatus();
+}
+
+void MainWindow::updateTuning() {
+  if (!simulation_->hasWorld()) return;
+  const vaw::sim::World& w = simulation_->world();
+  const auto part = simulation_->selected();
+  gravityDock_->showWorld(w);
+  frictionDock_->model()->showWorld(&w, part);
+  std::optional<vaw::sim::StabilityAdvice> advice;
+  QString name;
+  if (part) {
+    advice = vaw::sim::stabilityAdvice(w, *part);
+    name = QString::fromStdString(w.assembly().parts[*part].name);
+  }
+  methodsDock_->showWorld(w, advice, name);
+  const bool warn = advice && advice->level != vaw::sim::StabilityAdvice::Level::Stable;
+  stabilityStatus_->setVisible(warn);
+  QString fix;
+  if (warn && advice->safeMethod) fix = tr("use %1").arg(QString::fromLatin1(vaw::dyn::name(*advice->safeMethod).data()));
+  if (warn && advice->safeRate)
+    fix += (fix.isEmpty() ? tr("use ") : tr(" or ")) + tr("%1 Hz").arg(format::number(*advice->safeRate, 6));
+  stabilityStatus_->setText(
+      warn ? tr("⚠ %1: %2 at %3 Hz %4%5")
+                 .arg(name, QString::fromLatin1(vaw::dyn::name(w.settings().rotationMethod).data()),
+                      format::number(w.settings().rate, 6),
+                      advice->level == vaw::sim::StabilityAdvice::Level::Unstable ? tr("is unstable") : tr("is near its limit"),
+                      fix.isEmpty() ? QString() : QStringLiteral(" (%1)").arg(fix))
+           : QString());
+  stabilityStatus_->setToolTip(warn ? QString::fromStdString(advice->text) : QString());
+}
+
+QString MainWindow::stabilityWarning() const { return stabilityStatus_->isVisible() ? stabilityStatus_->text() : QString(); }
+
+bool MainWindow::hasUnsavedChanges() const { return !undoStack_->isClean(); }
+
+void MainWindow::requestTuning(const vaw::sim::Edit& edit, int mergeKey) {
+  if (!simulation_->hasWorld()) return;
+  const vaw::sim::World& w = simulation_->world();
+  const std::string problem = vaw::sim::validate(edit, w.assembly());
+  if (!problem.empty()) {
+    const QString text = tr("Refused: %1").arg(QString::fromStdString(problem));
+    message(static_cast<int>(MessageLogModel::Severity::Warning), text);
+    statusBar()->showMessage(text, 10000);
+    updateTuning();  // the panel shows the value kept
+    return;
+  }
+  // What the world has now, as a whole value of the same kind: undo sends it back.
+  const vaw::sim::Edit before = std::visit(
+      [&w](const auto& e) -> vaw::sim::Edit {
+        using E = std::decay_t<decltype(e)>;
+        if constexpr (std::is_same_v<E, vaw::sim::GravityEdit>) return vaw::sim::GravityEdit{w.settings().gravity};
+        else if constexpr (std::is_same_v<E, vaw::sim::MaterialFrictionEdit>)
+          return vaw::sim::MaterialFrictionEdit{e.material, w.materialFriction(e.material)};
+        else if constexpr (std::is_same_v<E, vaw::sim::PartFrictionEdit>) {
+          return vaw::sim::PartFrictionEdit{e.part, w.frictionOverride(e.part)};
+        } else if constexpr (std::is_same_v<E, vaw::sim::MethodEdit>) return vaw::sim::MethodEdit{w.settings().rotationMethod};
+        else return vaw::sim::RateEdit{w.settings().rate};
+      },
+      edit);
+  undoStack_->push(new EditCommand(*simulation_, before, edit, QString::fromStdString(vaw::sim::describe(edit, w.assembly())),
+                                   mergeKey));
+}
+
+bool MainWindow::save() {
+  if (scenePath_.isEmpty()) return saveAs();
+  return saveScene(scenePath_);
+}
+
+bool MainWindow::saveAs() {
+  if (!simulation_->hasWorld()) return false;
+  const vaw::Assembly& loaded = simulation_->world().assembly();
+  if (!isSceneFile(QFile::decodeName(loaded.source.string().c_str()))) {
+    const QString text = tr("Only a scene (.vaw.json) can be saved with its tuning; %1 is not one. Save the session instead.")
+                             .arg(QFile::decodeName(loaded.source.filename().string().c_str()));
+    message(static_cast<int>(MessageLogModel::Severity::Warning), text);
+    statusBar()->showMessage(text, 10000);
+    return false;
+  }
+  const QString start = scenePath_.isEmpty() ? QFile::decodeName(loaded.source.string().c_str()) : scenePath_;
+  QString file = QFileDialog::getSaveFileName(this, tr("Save scene with its tuning"), start, tr("Scenes (*.vaw.json)"));
+  if (file.isEmpty()) return false;
+  if (!file.endsWith(QStringLiteral(".json"))) file += QStringLiteral(".vaw.json");
+  return saveScene(file);
+}
+
+bool MainWindow::saveScene(const QString& file) {
+  if (!simulation_->hasWorld()) return false;
+  try {
+    vaw::sim::saveScene(simulation_->world().assembly(), simulation_->world(),
+                        std::filesystem::path(QFile::encodeName(file).toStdString()));
+  } catch (const vaw::InputError& e) {
+    const QString text = tr("Could not save the scene: %1").arg(QString::fromUtf8(e.what()));
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    statusBar()->showMessage(text, 10000);
+    return false;
+  }
+  scenePath_ = file;
+  undoStack_->setClean();
+  addRecent(file);
+  const QString text = tr("Saved the scene with its tuning to %1").arg(file);
+  message(static_cast<int>(MessageLogModel::Severity::Info), text);
+  statusBar()->showMessage(text, 8000);
+  updateTitle();
+  return true;
+}
+
+bool MainWindow::maybeSave() {
+  if (!hasUnsavedChanges()) return true;
+  QMessageBox box(QMessageBox::Warning, tr("Unsaved tuning"),
+                  tr("The gravity, friction or method settings were changed and not saved."),
+                  QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, this);
+  box.setObjectName(QStringLiteral("unsavedChangesBox"));
+  box.setInformativeText(tr("Save them with the scene?"));
+  box.setDefaultButton(QMessageBox::Save);
+  switch (box.exec()) {
+    case QMessageBox::Save: return save();
+    case QMessageBox::Discard: return true;
+    default: return false;
+  }
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  if (!maybeSave()) {
+    event->ignore();
+    return;
+  }
+  QSettings settings;
+  settings.setValue(QStringLiteral("window/geometry"), saveGeometry());
+  settings.setValue(QStringLiteral("window/state"), saveState());
+  simulation_->pause();
+  event->accept();
+}
+
+void MainWindow::addRecent(const QString& path) {
+  if (path.isEmpty()) return;
+  const QString absolute = QFileInfo(path).absoluteFilePath();
+  QSettings settings;
+  QStringList recent = settings.value(QStringLiteral("recentFiles")).toStringList();
+  recent.removeAll(absolute);
+  recent.prepend(absolute);
+  while (recent.size() > kMaxRecent) recent.removeLast();
+  settings.setValue(QStringLiteral("recentFiles"), recent);
+  updateRecentMenu();
+}
+
+void MainWindow::updateRecentMenu() {
+  recentMenu_->clear();
+  const QStringList recent = QSettings().value(QStringLiteral("recentFiles")).toStringList();
+  for (int i = 0; i < recent.size(); ++i) {
+    QAction* a = recentMenu_->addAction(QStringLiteral("&%1 %2").arg(i + 1).arg(QFileInfo(recent[i]).fileName()),
+                                        this, [this, path = recent[i]] { openFile(path); });
+    a->setToolTip(recent[i]);
+    a->setStatusTip(recent[i]);
+  }
+  recentMenu_->setEnabled(!recent.isEmpty());
+}
+
+void MainWindow::updateTitle() {
+  const vaw::Assembly* assembly = controller_.assembly();
+  QString name = assembly == nullptr ? QString() : QString::fromStdString(assembly->name);
+  if (name.isEmpty()) name = QFileInfo(controller_.currentPath()).fileName();
+  setWindowTitle(name.isEmpty() ? tr("vaw") : tr("%1[*] - vaw").arg(name));
+  setWindowModified(hasUnsavedChanges());
+}
+
+void MainWindow::showAbout() {
+  QMessageBox box(this);
+  box.setObjectName(QStringLiteral("aboutBox"));
+  box.setWindowTitle(tr("About vaw"));
+  box.setTextFormat(Qt::RichText);
+  box.setText(tr("<h3>vaw %1</h3><p>Virtual Assembly Workbench: how the parts of an assembly behave when a person handles "
+                 "them.</p>")
+                  .arg(QString::fromLatin1(vaw::kVersion)));
+  box.setInformativeText(
+      tr("<p>Built with Qt %1 (LGPL-3.0), Eigen (MPL-2.0), FCL and libccd (BSD-3-Clause), Open Asset Import Library "
+         "(BSD-3-Clause), nlohmann-json (MIT), and, where the headset plugin is built, the Khronos OpenXR loader "
+         "(Apache-2.0).</p>")
+          .arg(QString::fromLatin1(qVersion())));
+  box.exec();
+}
+
+void MainWindow::showBindings() {
+  QDialog dialog(this);
+  dialog.setObjectName(QStringLiteral("bindingsDialog"));
+  dialog.setWindowTitle(tr("Mouse and keys"));
+  auto* layout = new QVBoxLayout(&dialog);
+  auto* text = new QTextBrowser(&dialog);
+  text->setHtml(tr(
+      "<h3>Viewport</h3><table cellspacing=4>"
+      "<tr><td><b>Left-drag a part</b></td><td>grab it with the right hand and carry it; let go of the button to release "
+      "it (its velocity is the hand's)</td></tr>"
+      "<tr><td><b>Ctrl + left-drag</b></td><td>grab with both hands (two-hand parts)</td></tr>"
+      "<tr><td><b>Wheel while holding</b></td><td>move the part in depth (forward: away)</td></tr>"
+      "<tr><td><b>Q / E, Z / X, C / V</b></td><td>turn the held part about the view's axes</td></tr>"
+      "<tr><td><b>I / K, J / L, U / O</b></td><td>tilt the base about x and y, turn it about its vertical</td></tr>"
+      "<tr><td><b>H</b>, <b>Shift + arrows</b></td><td>close or open the hoist's hook; raise, lower and turn it</td></tr>"
+      "<tr><td><b>Left-drag on the background</b>, <b>Alt + drag</b>, <b>arrow keys</b></td><td>orbit the view</td></tr>"
+      "<tr><td><b>Right, middle or Shift + left drag</b>; <b>wheel</b></td><td>pan; zoom</td></tr>"
+      "<tr><td><b>F</b>, <b>Home</b></td><td>fit to view, reset the view</td></tr></table>"
+      "<h3>Simulation</h3><table cellspacing=4>"
+      "<tr><td><b>Space</b></td><td>play or pause</td></tr><tr><td><b>.</b></td><td>one step</td></tr>"
+      "<tr><td><b>[ ] \\</b></td><td>slower, faster, normal speed</td></tr>"
+      "<tr><td><b>Ctrl+R</b>, <b>End</b></td><td>reset, go to the end of the recording</td></tr>"
+      "<tr><td><b>Timeline</b></td><td>drag the playhead to look at the past; wheel zooms, right-drag pans</td></tr>"
+      "<tr><td><b>Ctrl+Z / Ctrl+Shift+Z</b></td><td>undo, redo a tuning change</td></tr>"
+      "<tr><td><b>Ctrl+S</b></td><td>save the scene with its tuning</td></tr></table>"));
+  layout->addWidget(text);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Close, &dialog);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  layout->addWidget(buttons);
+  dialog.resize(620, 520);
+  dialog.exec();
 }
 
 void MainWindow::logChanged() {

@@ -107,6 +107,10 @@ void PartPropertiesModel::updateLive(const vaw::sim::PartReport& r) {
   add(tr("Motion model"), format::str(r.modelName));
   add(tr("Method"), r.method.empty() ? tr("—") : format::str(r.method));
   add(tr("Constraint"), r.constraint.empty() ? tr("—") : format::str(r.constraint));
+  if (r.stability) {
+    const bool warn = r.stability->level != vaw::sim::StabilityAdvice::Level::Stable;
+    add(tr("Stability"), format::str(r.stability->text), format::str(r.stability->report.message), warn);
+  }
   QString coordinates = tr("—");
   switch (r.model) {
     case vaw::sim::Model::Cylindrical:
@@ -146,6 +150,12 @@ void PartPropertiesModel::updateLive(const vaw::sim::PartReport& r) {
                                format::number(r.lastRefusal->t), format::str(r.lastRefusal->reason))
                     : tr("none"),
       r.lastRefusal ? format::str(r.lastRefusal->reason) : QString(), r.lastRefusal.has_value());
+  if (liveRows_ != 0 && liveRows_ != live.size()) {  // a row came or went (the stability of a swing)
+    beginRemoveRows({}, 0, static_cast<int>(liveRows_) - 1);
+    rows_.erase(rows_.begin(), rows_.begin() + static_cast<std::ptrdiff_t>(liveRows_));
+    liveRows_ = 0;
+    endRemoveRows();
+  }
   if (liveRows_ == 0) {
     beginInsertRows({}, 0, static_cast<int>(live.size()) - 1);
     rows_.insert(rows_.begin(), live.begin(), live.end());

@@ -205,20 +205,17 @@ void SimulationController::reset() {
     return;
   }
   // The scene as loaded, with the tuning as it is now: the settings (gravity, method, rate) carry over and
-  // friction edits are applied again at step 0 of the new recording.
+  // the friction that differs from the new world's (the scene's own) is applied again at step 0.
   const vaw::sim::World& w = recorder_->world();
   const auto scene = recorder_->scenePtr();
+  const vaw::sim::World fresh(scene, w.settings());
   std::vector<vaw::sim::Edit> tuning;
-  for (const auto& [name, m] : scene->assembly().materials) {
-    const vaw::sim::FrictionValues now = w.materialFriction(name);
-    if (!(now == vaw::sim::FrictionValues{m.staticFriction, m.kineticFriction, m.rotationalFriction}))
-      tuning.emplace_back(vaw::sim::MaterialFrictionEdit{name, now});
-  }
-  for (vaw::PartId id = 0; id < scene->assembly().parts.size(); ++id) {
-    const auto& part = scene->assembly().parts[id];
-    if (!(w.friction(id) == w.materialFriction(part.material)))
-      tuning.emplace_back(vaw::sim::PartFrictionEdit{id, w.friction(id)});
-  }
+  for (const auto& [name, m] : scene->assembly().materials)
+    if (!(w.materialFriction(name) == fresh.materialFriction(name)))
+      tuning.emplace_back(vaw::sim::MaterialFrictionEdit{name, w.materialFriction(name)});
+  for (vaw::PartId id = 0; id < scene->assembly().parts.size(); ++id)
+    if (w.frictionOverride(id) != fresh.frictionOverride(id))
+      tuning.emplace_back(vaw::sim::PartFrictionEdit{id, w.frictionOverride(id)});
   const bool wasPlaying = isPlaying();
   start(scene, QString::fromStdString(recorder_->session().scene), w.settings());
   for (const auto& e : tuning) (void)recorder_->apply(e);

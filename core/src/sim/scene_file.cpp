@@ -62,8 +62,7 @@ void saveScene(const Assembly& loaded, const World& world, const std::filesystem
   for (const auto& [name, m] : loaded.materials) materials[name] = frictionJson(world.materialFriction(name));
   Ordered parts = Ordered::object();
   for (PartId id = 0; id < loaded.parts.size(); ++id) {
-    const FrictionValues f = world.friction(id);
-    if (!(f == world.materialFriction(loaded.parts[id].material))) parts[loaded.parts[id].name] = frictionJson(f);
+    if (const auto f = world.frictionOverride(id)) parts[loaded.parts[id].name] = frictionJson(*f);
   }
   Ordered friction{{"materials", materials}};
   if (!parts.empty()) friction["parts"] = parts;

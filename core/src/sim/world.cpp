@@ -322,6 +322,7 @@ const Settings& World::settings() const { return impl_->settings; }
 const Assembly& World::assembly() const { return impl_->assembly; }
 const std::shared_ptr<const Scene>& World::scene() const { return impl_->scene; }
 FrictionValues World::friction(PartId id) const { return impl_->friction(id); }
+std::optional<FrictionValues> World::frictionOverride(PartId id) const { return impl_->overrides.at(id); }
 FrictionValues World::materialFriction(const std::string& material) const {
   const auto it = impl_->materials.find(material);
   if (it == impl_->materials.end()) throw std::out_of_range("no material \"" + material + "\"");

@@ -158,6 +158,8 @@ class World {
   // The friction a part slides and turns with now (its override, else its material's, as edited).
   [[nodiscard]] FrictionValues friction(PartId id) const;
   [[nodiscard]] FrictionValues materialFriction(const std::string& material) const;
+  // The part's own friction when it has an override (even one equal to its material's), else none.
+  [[nodiscard]] std::optional<FrictionValues> frictionOverride(PartId id) const;
   [[nodiscard]] const std::vector<PartRuntime>& parts() const;
   [[nodiscard]] const PartRuntime& part(PartId id) const;
   [[nodiscard]] Eigen::Isometry3d basePose() const;

@@ -9,9 +9,12 @@
 #include <string>
 
 #include "vaw/assembly.hpp"
+#include "vaw/sim/edit.hpp"
 
 class QAction;
 class QLabel;
+class QMenu;
+class QUndoStack;
 
 namespace vaw::ui {
 
@@ -24,6 +27,9 @@ class MessagesDock;
 class ControlsDock;
 class TimelineDock;
 class LoadFeedback;
+class GravityDock;
+class FrictionDock;
+class MethodsDock;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -38,6 +44,14 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] ControlsDock* controlsDock() const { return controlsDock_; }
   [[nodiscard]] TimelineDock* timelineDock() const { return timelineDock_; }
   [[nodiscard]] LoadFeedback* loadFeedback() const { return loadFeedback_; }
+  [[nodiscard]] GravityDock* gravityDock() const { return gravityDock_; }
+  [[nodiscard]] FrictionDock* frictionDock() const { return frictionDock_; }
+  [[nodiscard]] MethodsDock* methodsDock() const { return methodsDock_; }
+  [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
+  // The stability warning of the status bar (empty when the selected part's swing is stable).
+  [[nodiscard]] QString stabilityWarning() const;
+  // Whether the tuning was changed since the scene was opened or saved.
+  [[nodiscard]] bool hasUnsavedChanges() const;
   [[nodiscard]] SimulationController& simulation() const { return *simulation_; }
   // The permanent status text: time, step cost, active parts, speed, mode.
   [[nodiscard]] QString statusText() const;
@@ -52,6 +66,18 @@ class MainWindow : public QMainWindow {
   bool saveSession(const QString& file);
   bool exportTimelinePng(const QString& file);
   bool exportTimelineCsv(const QString& file);
+  // File > Save: the scene with the tuning as edited (vaw::sim::saveScene); Save As when the file opened is
+  // not a scene. Returns false, having said why, when nothing was saved.
+  bool save();
+  bool saveAs();
+  bool saveScene(const QString& file);
+  // Opens `path` after asking about unsaved tuning (which may cancel).
+  void openFile(const QString& path);
+  // Asks whether to save unsaved tuning: true when it was saved or may be dropped, false to cancel.
+  bool maybeSave();
+
+ protected:
+  void closeEvent(QCloseEvent* event) override;
 
  private:
   void createMenus();
@@ -63,6 +89,14 @@ class MainWindow : public QMainWindow {
   void updateStatus();
   void logChanged();
   void message(int severity, const QString& text, const QString& detail = {});
+  // A tuning edit from a panel: refused with the rule it breaks, or pushed on the undo stack.
+  void requestTuning(const vaw::sim::Edit& edit, int mergeKey);
+  void updateTuning();
+  void addRecent(const QString& path);
+  void updateRecentMenu();
+  void updateTitle();
+  void showAbout();
+  void showBindings();
 
   AssemblyController& controller_;
   SimulationController* simulation_ = nullptr;
@@ -75,6 +109,15 @@ class MainWindow : public QMainWindow {
   LoadFeedback* loadFeedback_ = nullptr;
   QAction* reloadAction_ = nullptr;
   QAction* playAction_ = nullptr;
+  QAction* saveAction_ = nullptr;
+  QAction* saveAsAction_ = nullptr;
+  QMenu* recentMenu_ = nullptr;
+  QUndoStack* undoStack_ = nullptr;
+  GravityDock* gravityDock_ = nullptr;
+  FrictionDock* frictionDock_ = nullptr;
+  MethodsDock* methodsDock_ = nullptr;
+  QLabel* stabilityStatus_ = nullptr;
+  QString scenePath_;  // where File > Save writes: the scene file opened or last saved as
   QLabel* status_ = nullptr;
   bool autoPlay_ = true;
   // Live views are refreshed at most this often while the simulation runs (the viewport every frame).
