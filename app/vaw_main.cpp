@@ -1,5 +1,5 @@
 // vaw: the Virtual Assembly Workbench GUI.
-//   vaw [SCENE_OR_MESH_OR_SESSION] [--select PART] [--at SECONDS] [--screenshot FILE] [--size WxH]
+//   vaw [SCENE_OR_MESH_OR_SESSION] [--select PART] [--at SECONDS] [--screenshot FILE] [--size WxH] [--vr]
 // Without a file it opens the bundled default scene (vaw::defaultScenePath()). A session
 // (*.vaw-session.json) opens paused at its start, or at --at SECONDS, ready to play back.
 #include <Qt3DRender/QRenderCapture>
@@ -20,6 +20,7 @@
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
+#include "vaw/ui/xr_controller.hpp"
 
 namespace {
 
@@ -53,6 +54,10 @@ void screenshotWhenRendered(vaw::ui::MainWindow& window, const QString& file) {
 int main(int argc, char** argv) {
   // Qt3D's OpenGL renderer: captures come out the right way up, and it runs on Mesa's llvmpipe.
   if (qEnvironmentVariableIsEmpty("QT3D_RENDERER")) qputenv("QT3D_RENDERER", "opengl");
+  // The headset's OpenGL binding is GLX: under Wayland, --vr runs the window through XWayland.
+  bool vr = false;
+  for (int i = 1; i < argc; ++i) vr = vr || std::string(argv[i]) == "--vr";
+  if (vr && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "xcb");
   QApplication app(argc, argv);
   QApplication::setApplicationName(QStringLiteral("vaw"));
   QApplication::setApplicationDisplayName(QStringLiteral("Virtual Assembly Workbench"));
@@ -80,6 +85,9 @@ int main(int argc, char** argv) {
   const QCommandLineOption atOption(
       QStringLiteral("at"), QStringLiteral("Show a recorded session at this time (s) instead of its start."),
       QStringLiteral("SECONDS"));
+  const QCommandLineOption vrOption(QStringLiteral("vr"),
+                                    QStringLiteral("Start in the OpenXR headset (VR mode) once the file is open."));
+  parser.addOption(vrOption);
   parser.addOption(atOption);
   parser.addOption(screenshotOption);
   parser.addOption(sizeOption);
@@ -148,6 +156,14 @@ int main(int argc, char** argv) {
     QTimer::singleShot(120000, &app, [] {
       std::fprintf(stderr, "vaw: timed out waiting for the viewport to render\n");
       QCoreApplication::exit(3);
+    });
+  }
+  if (parser.isSet(vrOption)) {
+    QObject::connect(&window.xr(), &vaw::ui::XrController::failed, &window, [](vaw::xr::Failure, const QString& text) {
+      std::fprintf(stderr, "vaw: %s\n", qPrintable(text));
+    });
+    QObject::connect(&controller, &vaw::ui::AssemblyController::assemblyLoaded, &window, [&window] {
+      if (!window.xr().inHeadset()) window.xr().enter();
     });
   }
   controller.open(path);

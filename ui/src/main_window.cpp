@@ -25,6 +25,7 @@
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/timeline.hpp"
 #include "vaw/ui/viewport.hpp"
+#include "vaw/ui/xr_controller.hpp"
 
 namespace vaw::ui {
 
@@ -59,6 +60,16 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   status_->setObjectName(QStringLiteral("simulationStatus"));
   statusBar()->addPermanentWidget(status_);
   createMenus();
+  // VR mode: its own menu and status line; failures and notes land in Messages.
+  xr_ = new XrController(*simulation_, viewport_, this);
+  xr_->install(menuBar(), statusBar());
+  connect(xr_, &XrController::failed, this, [this](vaw::xr::Failure, const QString& text) {
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    statusBar()->showMessage(text, 15000);
+  });
+  connect(xr_, &XrController::notice, this, [this](const QString& text, bool warning) {
+    message(static_cast<int>(warning ? MessageLogModel::Severity::Warning : MessageLogModel::Severity::Info), text);
+  });
   liveTimer_.setSingleShot(true);
   connect(&liveTimer_, &QTimer::timeout, this, &MainWindow::updateLive);
   lastLive_.start();

@@ -124,6 +124,18 @@ void SimulationController::setInputSource(InputSource source) {
   if (!inputSource_ && recorder_) syncInputs();  // the desktop continues from what the source did last
 }
 
+void SimulationController::setExternalPacing(bool on) {
+  externalPacing_ = on;
+  lastTickNs_ = clock_.nsecsElapsed();
+  accumulator_ = 0.0;
+}
+
+void SimulationController::advance(int steps) {
+  if (!recorder_ || !isPlaying()) return;
+  runSteps(steps);
+  if (steps > 0) publish();
+}
+
 void SimulationController::requestEdit(const vaw::sim::Edit& edit) {
   commands_.push_back([this, edit] {
     if (!recorder_) return;
@@ -244,6 +256,7 @@ void SimulationController::tick() {
   const qint64 now = clock_.nsecsElapsed();
   const double wall = static_cast<double>(now - lastTickNs_) * 1e-9;
   lastTickNs_ = now;
+  if (externalPacing_) return;
   accumulator_ += wall * speed_;
   const double h = world().settings().step();
   auto n = static_cast<int>(std::floor(accumulator_ / h));
@@ -253,6 +266,11 @@ void SimulationController::tick() {
   } else {
     accumulator_ -= n * h;
   }
+  runSteps(n);
+  if (n > 0) publish();
+}
+
+void SimulationController::runSteps(int n) {
   for (int i = 0; i < n && isPlaying(); ++i) {
     stepOnceNow();
     if (playback_ && recorder_->atEnd()) {
@@ -261,7 +279,6 @@ void SimulationController::tick() {
       syncInputs();
     }
   }
-  if (n > 0) publish();
 }
 
 void SimulationController::drainCommands() {
@@ -334,8 +351,8 @@ vaw::sim::Input SimulationController::nextInput() {
   }
   if (const double rate = handTurn_.norm(); rate > 0.0)
     hand_.linear() = Eigen::AngleAxisd(rate * h, handTurn_ / rate).toRotationMatrix() * hand_.linear();
-  in.right = {hand_, handClosed_, target_};
-  in.left = bothHands_ ? in.right : vaw::sim::HandInput{hand_, false, std::nullopt};
+  in.right = {hand_, handClosed_, target_, std::nullopt};
+  in.left = bothHands_ ? in.right : vaw::sim::HandInput{hand_, false, std::nullopt, std::nullopt};
   // The base: the keys move its target, the base follows at a bounded rate.
   baseTarget_.tiltX += baseRates_.tiltX * h;
   baseTarget_.tiltY += baseRates_.tiltY * h;

@@ -24,6 +24,7 @@ class MessagesDock;
 class ControlsDock;
 class TimelineDock;
 class LoadFeedback;
+class XrController;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -39,6 +40,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] TimelineDock* timelineDock() const { return timelineDock_; }
   [[nodiscard]] LoadFeedback* loadFeedback() const { return loadFeedback_; }
   [[nodiscard]] SimulationController& simulation() const { return *simulation_; }
+  [[nodiscard]] XrController& xr() const { return *xr_; }
   // The permanent status text: time, step cost, active parts, speed, mode.
   [[nodiscard]] QString statusText() const;
   // Whether a newly opened scene starts running at once (the workbench does; tests that step by hand
@@ -66,6 +68,7 @@ class MainWindow : public QMainWindow {
 
   AssemblyController& controller_;
   SimulationController* simulation_ = nullptr;
+  XrController* xr_ = nullptr;
   Viewport* viewport_ = nullptr;
   SceneDock* sceneDock_ = nullptr;
   PartDock* partDock_ = nullptr;
