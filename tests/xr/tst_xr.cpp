@@ -105,6 +105,7 @@ class TestXr : public QObject {
   void losingTheSessionMidThrowReturnsToTheDesktopWithTheWorldIntact();
   void runtimeCrashReturnsToTheDesktop();
   void withoutHandTrackingTheControllersGrab();
+  void bothHandsTakeATwoHandPart();
   void noRuntimeAndNoHeadsetSaySo();
 
  private:
@@ -410,6 +411,36 @@ void TestXr::withoutHandTrackingTheControllersGrab() {
   QVERIFY2(eventsOf(world().transitions(), block).startsWith(QStringLiteral("grab:INHAND@")),
            qPrintable(eventsOf(world().transitions(), block)));
   QVERIFY((world().part(block).pose.translation() - com).z() > 0.05);
+  checkSpecification();
+}
+
+// The hoist demo's tray needs both hands: the right pinches it (refused alone), the left joins, and the two
+// lift it together. The runtime here offers no STAGE space: the table is placed below the head (LOCAL).
+void TestXr::bothHandsTakeATwoHandPart() {
+  open(QStringLiteral("hoist-demo.vaw.json"));
+  const PartId tray = *assembly().findPart("tray");
+  const vaw::Part& p = assembly().parts[tray];
+  const Eigen::Vector3d com = p.pose * p.mass.centerOfMass;
+  // LOCAL: the space's origin is the script's local_origin (1.6 m up), the table top 0.45 m below it.
+  const auto local = [](const Eigen::Vector3d& w) { return QJsonArray{w.x(), w.z() + 1.6 - 0.45, -w.y() - 0.45}; };
+  QJsonObject s{{QStringLiteral("duration"), 1.0}, {QStringLiteral("stage"), false}};
+  for (int hand = 0; hand < 2; ++hand) {
+    const Eigen::Vector3d side(hand == 0 ? -0.08 : 0.08, 0.0, 0.0);
+    const auto key = [&](double t, const Eigen::Vector3d& at, double pinch) {
+      return QJsonObject{{QStringLiteral("t"), t}, {QStringLiteral("position"), local(at + side)}, {QStringLiteral("pinch"), pinch}};
+    };
+    s[hand == 0 ? QStringLiteral("left") : QStringLiteral("right")] =
+        QJsonArray{key(0.0, com, 0.08), key(hand == 0 ? 0.35 : 0.25, com, 0.08), key(hand == 0 ? 0.40 : 0.30, com, 0.015),
+                   key(0.45, com, 0.015), key(0.8, com + Eigen::Vector3d(0.0, 0.0, 0.1), 0.015)};
+  }
+  script(s);
+  runInHeadset();
+  QVERIFY2(failures_.isEmpty(), qPrintable(failures_.isEmpty() ? QString() : failures_.front().second));
+  QVERIFY(!xr().runtime().stage);
+  QCOMPARE(world().part(tray).state, PartState::InHand);
+  QCOMPARE(world().part(tray).holder, vaw::sim::Holder::Both);
+  const double lifted = world().part(tray).pose.translation().z() - p.pose.translation().z();
+  QVERIFY2(lifted > 0.08, qPrintable(QString::number(lifted)));
   checkSpecification();
 }
 
