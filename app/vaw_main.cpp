@@ -54,7 +54,9 @@ void screenshotWhenRendered(vaw::ui::MainWindow& window, const QString& file) {
 int main(int argc, char** argv) {
   // Qt3D's OpenGL renderer: captures come out the right way up, and it runs on Mesa's llvmpipe.
   if (qEnvironmentVariableIsEmpty("QT3D_RENDERER")) qputenv("QT3D_RENDERER", "opengl");
-  // The headset's OpenGL binding is GLX: under Wayland, --vr runs the window through XWayland.
+  // The headset's OpenGL binding is GLX (docs/vr.md): Qt's contexts on X11 are to be GLX ones (its default,
+  // said here so an EGL default cannot creep in), and under Wayland --vr runs the window through XWayland.
+  if (qEnvironmentVariableIsEmpty("QT_XCB_GL_INTEGRATION")) qputenv("QT_XCB_GL_INTEGRATION", "xcb_glx");
   bool vr = false;
   for (int i = 1; i < argc; ++i) vr = vr || std::string(argv[i]) == "--vr";
   if (vr && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "xcb");
