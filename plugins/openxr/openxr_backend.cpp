@@ -177,7 +177,7 @@ class OpenXrBackend final : public Backend {
     if (!ok(xrBeginFrame(session_, &beginInfo), "xrBeginFrame")) return result;
     syncActions();
 
-    FrameTiming timing{frameState.predictedDisplayTime, frameState.predictedDisplayPeriod, frameState.shouldRender == XR_TRUE};
+    FrameTiming timing{frameState.predictedDisplayTime, frameState.shouldRender == XR_TRUE};
     double t0 = threadCpuMs();
     const view::Frame* drawn = simulate(timing);
     result.simulateMs = threadCpuMs() - t0;

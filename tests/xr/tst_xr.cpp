@@ -14,6 +14,7 @@
 #include <QSignalSpy>
 #include <QStatusBar>
 #include <QTemporaryDir>
+#include <Qt3DRender/QCamera>
 #include <QtTest>
 #include <memory>
 
@@ -23,6 +24,7 @@
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/viewport.hpp"
 #include "vaw/ui/xr_controller.hpp"
 
 using vaw::PartId;
@@ -237,7 +239,24 @@ void TestXr::sessionWalksEveryStateWithTheMatchingCalls() {
   open(QStringLiteral("block-on-plate.vaw.json"));
   script(QJsonObject{{QStringLiteral("duration"), 0.5}});
   QSignalSpy states(&xr(), &vaw::ui::XrController::sessionStateChanged);
+  // While in the headset the desktop's camera is the wearer's head (the mean of the eyes).
+  double mirrorError = 0.0;
+  int mirrored = 0;
+  const auto mirror = connect(&xr(), &vaw::ui::XrController::frameShown, this, [&] {
+    if (!xr().lastFrame().rendered) return;
+    const QVector3D c = window_->viewport()->camera()->position();
+    mirrorError = std::max(mirrorError, (Eigen::Vector3d(c.x(), c.y(), c.z()) - xr().lastFrame().head.translation()).norm());
+    ++mirrored;
+  });
+  const QVector3D desktopCamera = window_->viewport()->camera()->position();
   const std::uint64_t steps = runInHeadset();
+  disconnect(mirror);
+  QVERIFY(mirrored > 30);
+  QVERIFY2(mirrorError < 1e-4, qPrintable(QString::number(mirrorError)));
+  // The script's head stands 1.65 m above the floor: 0.75 m above the table top.
+  QVERIFY2(std::abs(xr().lastFrame().head.translation().z() - 0.75) < 1e-3, qPrintable(QString::number(xr().lastFrame().head.translation().z())));
+  QCOMPARE(window_->viewport()->camera()->position(), desktopCamera);  // back where it was
+  QCOMPARE(xr().framesShown(), static_cast<std::uint64_t>(record().frames.size()));
   QVERIFY2(failures_.isEmpty(), qPrintable(failures_.isEmpty() ? QString() : failures_.front().second));
   QStringList seen;
   for (XrSessionState s : record().states) seen << stateName(s);

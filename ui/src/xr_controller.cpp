@@ -71,8 +71,9 @@ QString XrController::statusText() const {
     case Mode::Starting: return tr("VR starting: %1, %2").arg(runtime, QString::fromLatin1(xr::name(state_).data()));
     case Mode::Headset: break;
   }
-  return tr("VR: %1 (%2), %3")
-      .arg(runtime, QString::fromStdString(runtime_.system), QString::fromLatin1(xr::name(state_).data()));
+  return tr("VR: %1 %2 (%3), %4")
+      .arg(runtime, QString::fromStdString(runtime_.version), QString::fromStdString(runtime_.system),
+           QString::fromLatin1(xr::name(state_).data()));
 }
 
 void XrController::updateUi() {
@@ -168,14 +169,13 @@ void XrController::enter() {
   inputSettings_.baseReach = settings.value(QStringLiteral("base_reach"), defaults.baseReach).toDouble();
 
   backend_.reset(create_());
-  const xr::Event started = backend_->start(xr::StartOptions{placement_});
+  const xr::Event started = backend_->start(xr::StartOptions{});
   if (started.kind == xr::Event::Kind::Failure) {
     backend_.reset();
     context_->doneCurrent();
     return finish(started);
   }
   runtime_ = backend_->runtime();
-  emit runtimeChanged(QString::fromStdString(runtime_.name));
   mode_ = Mode::Starting;
   state_ = xr::SessionState::Unknown;
   framesShown_ = 0;

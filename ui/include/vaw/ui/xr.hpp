@@ -102,7 +102,6 @@ struct HandsSample {
 
 struct FrameTiming {
   std::int64_t displayTime = 0;  // ns, the runtime's clock (XrTime): when this frame will be shown
-  std::int64_t period = 0;       // ns between displayed frames
   bool shouldRender = false;
 };
 

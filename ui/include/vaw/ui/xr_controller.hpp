@@ -58,9 +58,8 @@ class XrController : public QObject {
   // The last frame the headset showed (its timings and head pose), and how many it has shown.
   [[nodiscard]] const xr::FrameResult& lastFrame() const { return lastFrame_; }
   [[nodiscard]] std::uint64_t framesShown() const { return framesShown_; }
-  // The thresholds of the hands (read from the settings' "vr" group when VR starts) and where the table sits.
+  // The thresholds of the hands, read from the settings' "vr" group when VR starts.
   [[nodiscard]] const xr::InputSettings& inputSettings() const { return inputSettings_; }
-  void setPlacement(const xr::Placement& placement) { placement_ = placement; }
 
  public slots:
   void enter();
@@ -71,7 +70,6 @@ class XrController : public QObject {
  signals:
   void modeChanged(bool inHeadset);
   void sessionStateChanged(vaw::xr::SessionState state);
-  void runtimeChanged(const QString& name);
   void failed(vaw::xr::Failure failure, const QString& message);
   // What the runtime or the plugin said that the user should know (hands or controllers, validation).
   void notice(const QString& text, bool warning);
@@ -97,7 +95,6 @@ class XrController : public QObject {
   Mode mode_ = Mode::Desktop;
   xr::SessionState state_ = xr::SessionState::Unknown;
   xr::RuntimeInfo runtime_;
-  xr::Placement placement_;
   xr::InputSettings inputSettings_;
 
   void* library_ = nullptr;
