@@ -164,9 +164,13 @@ int main(int argc, char** argv) {
     QObject::connect(&window.xr(), &vaw::ui::XrController::failed, &window, [](vaw::xr::Failure, const QString& text) {
       std::fprintf(stderr, "vaw: %s\n", qPrintable(text));
     });
-    QObject::connect(&controller, &vaw::ui::AssemblyController::assemblyLoaded, &window, [&window] {
-      if (!window.xr().inHeadset()) window.xr().enter();
-    });
+    // The first file opened goes into the headset; later ones open wherever the workbench is then.
+    QObject::connect(
+        &controller, &vaw::ui::AssemblyController::assemblyLoaded, &window,
+        [&window] {
+          if (!window.xr().inHeadset()) window.xr().enter();
+        },
+        Qt::SingleShotConnection);
   }
   controller.open(path);
   return QApplication::exec();
