@@ -80,7 +80,7 @@ std::unique_ptr<vaw::sim::World> flying(vaw::Assembly a, const Eigen::Vector3d& 
   auto w = std::make_unique<vaw::sim::World>(a, s);
   vaw::sim::Input in;
   for (int k = 0; k < 10; ++k) {
-    in.left = {at(flyAt.x() - 0.0001 / 90.0 * k, flyAt.y(), flyAt.z()), true, std::nullopt, std::nullopt};
+    in.left = {at(flyAt.x() - 0.0001 / 90.0 * k, flyAt.y(), flyAt.z()), true, std::nullopt};
     w->step(in);
   }
   in.left.grab = false;
@@ -139,7 +139,7 @@ void BM_SeekMiddleOfTenMinutesLargeGearbox(benchmark::State& state) {
     const double phase = std::fmod(t, 20.0);
     if (phase < 1.0 / rate) {  // close on the gear where it lies
       start = rec.world().part(gear).pose * scene->assembly().parts[gear].mass.centerOfMass;
-      in.right = {at(start.x(), start.y(), start.z()), true, gear, std::nullopt};
+      in.right = {at(start.x(), start.y(), start.z()), true, gear};
     } else if (phase < 15.0) {
       const double a = 2.0 * std::numbers::pi * 0.5 * phase;
       const double lift = std::min(phase, 1.0) * 0.1;

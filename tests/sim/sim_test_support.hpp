@@ -37,6 +37,6 @@ std::string join(const std::vector<std::string>& v);
 std::string num(double v);
 
 // A hand input that holds `grab` at `pose`.
-inline sim::HandInput hand(const Eigen::Isometry3d& pose, bool grab) { return sim::HandInput{pose, grab, std::nullopt, std::nullopt}; }
+inline sim::HandInput hand(const Eigen::Isometry3d& pose, bool grab) { return sim::HandInput{pose, grab, std::nullopt}; }
 
 }  // namespace vaw::simtest

@@ -351,8 +351,8 @@ vaw::sim::Input SimulationController::nextInput() {
   }
   if (const double rate = handTurn_.norm(); rate > 0.0)
     hand_.linear() = Eigen::AngleAxisd(rate * h, handTurn_ / rate).toRotationMatrix() * hand_.linear();
-  in.right = {hand_, handClosed_, target_, std::nullopt};
-  in.left = bothHands_ ? in.right : vaw::sim::HandInput{hand_, false, std::nullopt, std::nullopt};
+  in.right = {hand_, handClosed_, target_};
+  in.left = bothHands_ ? in.right : vaw::sim::HandInput{hand_, false, std::nullopt};
   // The base: the keys move its target, the base follows at a bounded rate.
   baseTarget_.tiltX += baseRates_.tiltX * h;
   baseTarget_.tiltY += baseRates_.tiltY * h;

@@ -60,7 +60,7 @@ struct HandInput {
   // The hand's own velocity at its pose's origin (world), when a tracker measures it (a headset's hand
   // joints or controller); none: the release velocity is estimated from the held part's recent poses
   // (Settings::release). Read on the step the hand lets go.
-  std::optional<interact::Twist> velocity;
+  std::optional<interact::Twist> velocity{};  // initialised here, so inputs written as {pose, grab, target} stay complete
 };
 
 struct HoistInput {
