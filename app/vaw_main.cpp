@@ -1,5 +1,5 @@
 // vaw: the Virtual Assembly Workbench GUI.
-//   vaw [SCENE_OR_MESH_OR_SESSION] [--select PART] [--at SECONDS] [--screenshot FILE] [--size WxH]
+//   vaw [SCENE_OR_MESH_OR_SESSION] [--select PART] [--at SECONDS] [--screenshot FILE] [--size WxH] [--vr]
 // Without a file it opens the bundled default scene (vaw::defaultScenePath()). A session
 // (*.vaw-session.json) opens paused at its start, or at --at SECONDS, ready to play back.
 #include <Qt3DRender/QRenderCapture>
@@ -21,6 +21,7 @@
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
+#include "vaw/ui/xr_controller.hpp"
 
 namespace {
 
@@ -59,6 +60,12 @@ int main(int argc, char** argv) {
     const std::string a = argv[i];
     if (a == "--help" || a == "-h" || a == "--help-all" || a == "--version" || a == "-v") qputenv("QT_QPA_PLATFORM", "offscreen");
   }
+  // The headset's OpenGL binding is GLX (docs/vr.md): Qt's contexts on X11 are to be GLX ones (its default,
+  // said here so an EGL default cannot creep in), and under Wayland --vr runs the window through XWayland.
+  if (qEnvironmentVariableIsEmpty("QT_XCB_GL_INTEGRATION")) qputenv("QT_XCB_GL_INTEGRATION", "xcb_glx");
+  bool vr = false;
+  for (int i = 1; i < argc; ++i) vr = vr || std::string(argv[i]) == "--vr";
+  if (vr && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "xcb");
   QApplication app(argc, argv);
   QApplication::setApplicationName(QStringLiteral("vaw"));
   QApplication::setApplicationVersion(QString::fromLatin1(vaw::kVersion));
@@ -88,6 +95,9 @@ int main(int argc, char** argv) {
   const QCommandLineOption atOption(
       QStringLiteral("at"), QStringLiteral("Show a recorded session at this time (s) instead of its start."),
       QStringLiteral("SECONDS"));
+  const QCommandLineOption vrOption(QStringLiteral("vr"),
+                                    QStringLiteral("Start in the OpenXR headset (VR mode) once the file is open."));
+  parser.addOption(vrOption);
   parser.addOption(atOption);
   parser.addOption(screenshotOption);
   parser.addOption(sizeOption);
@@ -157,6 +167,18 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "vaw: timed out waiting for the viewport to render\n");
       QCoreApplication::exit(3);
     });
+  }
+  if (parser.isSet(vrOption)) {
+    QObject::connect(&window.xr(), &vaw::ui::XrController::failed, &window, [](vaw::xr::Failure, const QString& text) {
+      std::fprintf(stderr, "vaw: %s\n", qPrintable(text));
+    });
+    // The first file opened goes into the headset; later ones open wherever the workbench is then.
+    QObject::connect(
+        &controller, &vaw::ui::AssemblyController::assemblyLoaded, &window,
+        [&window] {
+          if (!window.xr().inHeadset()) window.xr().enter();
+        },
+        Qt::SingleShotConnection);
   }
   controller.open(path);
   return QApplication::exec();

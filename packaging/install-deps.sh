@@ -15,6 +15,8 @@ packages=(
   qt6-qpa-plugins qt6-3d-defaultgeometryloader-plugin qt6-3d-assimpsceneimport-plugin
   # tests and benchmarks
   libbenchmark-dev libgtest-dev
+  # VR mode: the OpenXR loader (the plugin links it); its core validation layer checks the VR tests
+  libopenxr-dev openxr-layer-corevalidation
   # optional peers for the work-precision chart
   libbullet-dev libode-dev
   # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe)

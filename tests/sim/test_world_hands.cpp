@@ -103,6 +103,40 @@ TEST(WorldHands, ThrownPartFollowsTheBallisticArcFromTheHandsVelocity) {
   EXPECT_GT(w.part(block).pose.translation().y(), 0.2) << "landed downrange";
 }
 
+// A tracked hand that measures its own velocity (a headset's hand joints): at release the part leaves with
+// that velocity, carried rigidly to its centre of mass (v + w x r), not with what the windowed fit of its poses
+// says, and nothing is scaled.
+TEST(WorldHands, MeasuredHandVelocityIsTheReleaseVelocity) {
+  const Assembly a = simtest::loadBundled("block-on-plate.vaw.json");
+  const PartId block = *a.findPart("block");
+  World w(a);
+  const Eigen::Vector3d com0 = a.parts[block].pose * a.parts[block].mass.centerOfMass;
+  const Eigen::Vector3d lever(0.0, -0.03, 0.02);  // the hand holds the block off its centre of mass
+  const Eigen::Vector3d moved(0.0, 0.2, 0.5);     // how the poses move (what the fit would see)
+  const double h = w.settings().step();
+  Input in;
+  for (int k = 0; k < 20; ++k) {
+    in.left = simtest::hand(at(com0.x(), com0.y(), com0.z()) * at(-lever.x(), -lever.y(), -lever.z()), true);
+    in.left.pose.translation() += moved * (h * k);
+    w.step(in);
+  }
+  interact::Twist measured;
+  measured.linear = Eigen::Vector3d(0.1, 0.0, 0.8);
+  measured.angular = Eigen::Vector3d(0.0, 0.0, 0.5);  // about the vertical, a principal axis of the block
+  const auto fitted = w.releaseVelocity(block);
+  ASSERT_TRUE(fitted);
+  EXPECT_LT((fitted->linear - moved).norm(), 1e-9) << "the fit follows the poses";
+  in.left.grab = false;
+  in.left.velocity = measured;
+  w.step(in);
+  ASSERT_EQ(w.part(block).state, PartState::InSpace);
+  const Eigen::Vector3d expected = measured.linear + measured.angular.cross(lever) + dyn::worldGravity() * 0.25 * h;
+  EXPECT_LT((w.part(block).velocity - expected).norm(), 1e-9) << "one step of flight after the measured release";
+  EXPECT_LT((w.part(block).angularVelocity - measured.angular).norm(), 1e-9);
+  EXPECT_NE(w.transitions().back().cause.find("measured by the hand's tracker"), std::string::npos)
+      << w.transitions().back().cause;
+}
+
 // Released exactly at its final pose on the plate: PLACED, snapped, and it then rides with the base.
 TEST(WorldHands, PartBroughtToItsFinalPoseEndsPlaced) {
   const Assembly a = simtest::loadBundled("block-on-plate.vaw.json");

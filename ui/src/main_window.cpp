@@ -37,6 +37,7 @@
 #include "vaw/ui/timeline.hpp"
 #include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
+#include "vaw/ui/xr_controller.hpp"
 
 namespace vaw::ui {
 
@@ -90,6 +91,16 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   statusBar()->addPermanentWidget(stabilityStatus_);
   statusBar()->addPermanentWidget(status_);
   createMenus();
+  // VR mode: its own menu and status line; failures and notes land in Messages.
+  xr_ = new XrController(*simulation_, viewport_, this);
+  xr_->install(menuBar(), statusBar());
+  connect(xr_, &XrController::failed, this, [this](vaw::xr::Failure, const QString& text) {
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    statusBar()->showMessage(text, 15000);
+  });
+  connect(xr_, &XrController::notice, this, [this](const QString& text, bool warning) {
+    message(static_cast<int>(warning ? MessageLogModel::Severity::Warning : MessageLogModel::Severity::Info), text);
+  });
   {
     // Where the user left the window and its docks (a closed dock stays closed).
     QSettings settings;

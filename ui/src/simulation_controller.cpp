@@ -124,6 +124,18 @@ void SimulationController::setInputSource(InputSource source) {
   if (!inputSource_ && recorder_) syncInputs();  // the desktop continues from what the source did last
 }
 
+void SimulationController::setExternalPacing(bool on) {
+  externalPacing_ = on;
+  lastTickNs_ = clock_.nsecsElapsed();
+  accumulator_ = 0.0;
+}
+
+void SimulationController::advance(int steps) {
+  if (!recorder_ || !isPlaying()) return;
+  runSteps(steps);
+  if (steps > 0) publish();
+}
+
 void SimulationController::requestEdit(const vaw::sim::Edit& edit) {
   commands_.push_back([this, edit] {
     if (!recorder_) return;
@@ -241,6 +253,7 @@ void SimulationController::tick() {
   const qint64 now = clock_.nsecsElapsed();
   const double wall = static_cast<double>(now - lastTickNs_) * 1e-9;
   lastTickNs_ = now;
+  if (externalPacing_) return;
   accumulator_ += wall * speed_;
   const double h = world().settings().step();
   auto n = static_cast<int>(std::floor(accumulator_ / h));
@@ -250,6 +263,11 @@ void SimulationController::tick() {
   } else {
     accumulator_ -= n * h;
   }
+  runSteps(n);
+  if (n > 0) publish();
+}
+
+void SimulationController::runSteps(int n) {
   for (int i = 0; i < n && isPlaying(); ++i) {
     stepOnceNow();
     if (playback_ && recorder_->atEnd()) {
@@ -258,7 +276,6 @@ void SimulationController::tick() {
       syncInputs();
     }
   }
-  if (n > 0) publish();
 }
 
 void SimulationController::drainCommands() {

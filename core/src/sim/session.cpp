@@ -91,6 +91,10 @@ Eigen::Isometry3d poseFrom(const Node& n) {
 Json handJson(const HandInput& h) {
   Json j{{"pose", poseJson(h.pose)}, {"grab", h.grab}};
   if (h.target) j["target"] = *h.target;
+  if (h.velocity) {
+    const auto& v = *h.velocity;
+    j["velocity"] = Json::array({v.linear.x(), v.linear.y(), v.linear.z(), v.angular.x(), v.angular.y(), v.angular.z()});
+  }
   return j;
 }
 
@@ -106,12 +110,21 @@ PartId partIndex(const Node& n) {
 }
 
 HandInput handFrom(const Node& n, bool targets) {
-  if (targets) n.allowOnly({"pose", "grab", "target"});
+  if (targets) n.allowOnly({"pose", "grab", "target", "velocity"});
   else n.allowOnly({"pose", "grab"});
   HandInput h;
   h.pose = poseFrom(n.get("pose"));
   h.grab = boolean(n.get("grab"));
   if (auto t = n.opt("target")) h.target = partIndex(*t);
+  if (auto v = n.opt("velocity")) {
+    if (!v->json().is_array() || v->size() != 6) v->fail("6 numbers: linear (m/s) then angular (rad/s) velocity, world");
+    interact::Twist tw;
+    for (int i = 0; i < 3; ++i) {
+      tw.linear[i] = v->at(static_cast<std::size_t>(i)).number();
+      tw.angular[i] = v->at(static_cast<std::size_t>(i + 3)).number();
+    }
+    h.velocity = tw;
+  }
   return h;
 }
 
@@ -126,8 +139,11 @@ HoistInput hoistFrom(const Node& h) {
   return out;
 }
 
+bool sameTwist(const std::optional<interact::Twist>& a, const std::optional<interact::Twist>& b) {
+  return a.has_value() == b.has_value() && (!a || (a->linear == b->linear && a->angular == b->angular));
+}
 bool sameHand(const HandInput& a, const HandInput& b) {
-  return a.grab == b.grab && a.target == b.target && a.pose.matrix() == b.pose.matrix();
+  return a.grab == b.grab && a.target == b.target && a.pose.matrix() == b.pose.matrix() && sameTwist(a.velocity, b.velocity);
 }
 bool sameHoist(const HoistInput& a, const HoistInput& b) {
   return a.engaged == b.engaged && a.height == b.height && a.yaw == b.yaw;

@@ -57,8 +57,10 @@ void World::Impl::hands(const Input& in) {
       const Holder hd = parts[id].holder;
       held[0] = held[0] == id ? std::nullopt : held[0];
       held[1] = held[1] == id ? std::nullopt : held[1];
+      // A two-hand part follows the left hand (the lead), so its velocity is the left hand's.
       letGo(id, false,
-            hd == Holder::Both ? interact::Hands::Both : (k == 0 ? interact::Hands::Left : interact::Hands::Right));
+            hd == Holder::Both ? interact::Hands::Both : (k == 0 ? interact::Hands::Left : interact::Hands::Right),
+            hs[hd == Holder::Both ? 0 : k]);
     }
   }
   for (int k = 0; k < 2; ++k) {
@@ -87,7 +89,7 @@ void World::Impl::hands(const Input& in) {
   for (int k = 0; k < 2; ++k) prevGrab[k] = hs[k]->grab;
 }
 
-void World::Impl::letGo(PartId id, bool tool, interact::Hands hands) {
+void World::Impl::letGo(PartId id, bool tool, interact::Hands hands, const HandInput* hand) {
   flush(id);
   PartRuntime& r = parts[id];
   PartModel& m = models[id];
@@ -122,8 +124,18 @@ void World::Impl::letGo(PartId id, bool tool, interact::Hands hands) {
     }
     return;
   }
-  const interact::Twist tw = interact::releaseVelocity(m.history, settings.release);
-  const std::string cause = fmt("v=(%.4f, %.4f, %.4f) m/s", tw.linear.x(), tw.linear.y(), tw.linear.z());
+  interact::Twist tw;
+  std::string source;
+  if (hand != nullptr && hand->velocity) {
+    // The part moves rigidly with the hand: its centre of mass at the hand's pose, seen from the hand's origin.
+    const Eigen::Vector3d lever = hand->pose.linear() * (m.offset * def(id).mass.centerOfMass);
+    tw.angular = hand->velocity->angular;
+    tw.linear = hand->velocity->linear + tw.angular.cross(lever);
+    source = ", measured by the hand's tracker";
+  } else {
+    tw = interact::releaseVelocity(m.history, settings.release);
+  }
+  const std::string cause = fmt("v=(%.4f, %.4f, %.4f) m/s", tw.linear.x(), tw.linear.y(), tw.linear.z()) + source;
   if (!fireEvent(id, Event::Release, hands, cause)) return;
   if (r.state == PartState::InSpace) {
     enterFlight(id, tw.linear, tw.angular, t);

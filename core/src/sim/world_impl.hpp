@@ -156,7 +156,8 @@ struct World::Impl : Snapshot::State {
   [[nodiscard]] std::optional<PartId> nearest(const Eigen::Vector3d& at, double reach, bool forTool) const;
   [[nodiscard]] std::optional<PartId> handTarget(const HandInput& hand) const;
   void hands(const Input& in);
-  void letGo(PartId id, bool tool, interact::Hands hands);
+  // `hand`: the input of the hand the part follows (its measured velocity, if any, is the release velocity).
+  void letGo(PartId id, bool tool, interact::Hands hands, const HandInput* hand = nullptr);
 
   // ---- world_tools.cpp ----
   [[nodiscard]] Eigen::Isometry3d hoistFrame(const HoistInput& hi) const;

@@ -61,6 +61,10 @@ struct HandInput {
   // The part this hand closes on, when the hand knows it (the desktop's mouse picks it); none: the
   // nearest grabbable part within reach (tracked hands). Read on the step the grab starts.
   std::optional<PartId> target;
+  // The hand's own velocity at its pose's origin (world), when a tracker measures it (a headset's hand
+  // joints or controller); none: the release velocity is estimated from the held part's recent poses
+  // (Settings::release). Read on the step the hand lets go.
+  std::optional<interact::Twist> velocity{};  // initialised here, so inputs written as {pose, grab, target} stay complete
 };
 
 struct HoistInput {

@@ -30,6 +30,7 @@ class LoadFeedback;
 class GravityDock;
 class FrictionDock;
 class MethodsDock;
+class XrController;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -53,6 +54,7 @@ class MainWindow : public QMainWindow {
   // Whether the tuning was changed since the scene was opened or saved.
   [[nodiscard]] bool hasUnsavedChanges() const;
   [[nodiscard]] SimulationController& simulation() const { return *simulation_; }
+  [[nodiscard]] XrController& xr() const { return *xr_; }
   // The permanent status text: time, step cost, active parts, speed, mode.
   [[nodiscard]] QString statusText() const;
   // Whether a newly opened scene starts running at once (the workbench does; tests that step by hand
@@ -100,6 +102,7 @@ class MainWindow : public QMainWindow {
 
   AssemblyController& controller_;
   SimulationController* simulation_ = nullptr;
+  XrController* xr_ = nullptr;
   Viewport* viewport_ = nullptr;
   SceneDock* sceneDock_ = nullptr;
   PartDock* partDock_ = nullptr;

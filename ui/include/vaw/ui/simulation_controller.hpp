@@ -102,6 +102,15 @@ class SimulationController : public QObject {
   void setInputSource(InputSource source);
   [[nodiscard]] bool hasInputSource() const { return static_cast<bool>(inputSource_); }
 
+  // ---- pacing by another clock (the headset's frame loop) ----
+  // While paced externally the timer steps nothing; play and pause still say whether time runs, and the
+  // pacer calls advance() with the steps its clock owes (the headset: those that end by its next display
+  // time). Turning it off restarts the timer's clock, so no time owed carries over either way.
+  void setExternalPacing(bool on);
+  [[nodiscard]] bool isPacedExternally() const { return externalPacing_; }
+  // Runs `steps` live steps now (none while paused) and publishes one frame.
+  void advance(int steps);
+
   // ---- edits (gravity, friction, method, rate) ----
   // Queued to the next step boundary; editApplied or editRefused says what came of it.
   void requestEdit(const vaw::sim::Edit& edit);
@@ -133,6 +142,7 @@ class SimulationController : public QObject {
 
  private:
   void tick();
+  void runSteps(int n);
   void drainCommands();
   void stepOnceNow();
   [[nodiscard]] vaw::sim::Input nextInput();
@@ -157,6 +167,7 @@ class SimulationController : public QObject {
   qint64 lastStepNs_ = 0;
   std::deque<std::function<void()>> commands_;
   InputSource inputSource_;
+  bool externalPacing_ = false;
 
   // Desktop inputs, read at each step.
   Eigen::Isometry3d hand_ = Eigen::Isometry3d::Identity();
