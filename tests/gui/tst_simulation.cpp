@@ -351,7 +351,7 @@ void TestSimulation::flickThrowsThePart() {
   QCOMPARE(release.event, Event::Release);
   const double speed = world().part(sleeve).velocity.head<2>().norm();
   // How fast depends on the wall-clock pace of the events (a loaded machine stretches the 12 ms waits and
-  // the simulation drops steps it cannot catch up): about 1 m/s on an idle machine, above 0.1 m/s always.
+  // the simulation drops steps it cannot catch up): 0.17 m/s was seen during a parallel build.
   QVERIFY2(speed > 0.1, qPrintable(QString::number(speed)));
   QTRY_VERIFY_WITH_TIMEOUT(world().part(sleeve).state != PartState::InSpace, 8000);
   const double carried = (world().part(sleeve).pose.translation() - released).head<2>().norm();

@@ -40,6 +40,7 @@
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
+#include "vaw/ui/motion_chart.hpp"
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/tuning.hpp"
@@ -485,9 +486,20 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   shot(window_.get(), QStringLiteral("tuning-unstable-warning.png"));
   shot(methods, QStringLiteral("tuning-methods.png"));
 
+  show(window_->motionDock());
   sim().play();
   QTRY_VERIFY_WITH_TIMEOUT(swing() > e0 + 0.01, 6000);
   sim().pause();
+  // The motion chart shows it: the recorded past replayed (from 0 s) and the growth sampled live.
+  QTRY_VERIFY(!window_->motionDock()->samples().empty());
+  const auto& samples = window_->motionDock()->samples();
+  QCOMPARE(samples.begin()->second.t, 0.0);
+  double after = -1e300;
+  for (const auto& [step, x] : samples)
+    if (x.t > tWarned) after = std::max(after, x.energy);
+  QVERIFY2(after > e0 + 0.005, qPrintable(QStringLiteral("energy %1 J when warned, peak %2 J after").arg(e0).arg(after)));
+  QCOMPARE(vaw::ui::MotionChartDock::sample(world(), gear).energy, swing());
+  shot(window_.get(), QStringLiteral("tuning-motion-chart.png"));
   auto* suggestion = methods->findChild<QPushButton*>(QStringLiteral("applyStabilitySuggestion"));
   QVERIFY(suggestion->isVisible());
   QTest::mouseClick(suggestion, Qt::LeftButton);

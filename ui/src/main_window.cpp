@@ -34,6 +34,7 @@
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/motion_chart.hpp"
 #include "vaw/ui/timeline.hpp"
 #include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
@@ -63,6 +64,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   gravityDock_ = new GravityDock(this);
   frictionDock_ = new FrictionDock(this);
   methodsDock_ = new MethodsDock(this);
+  motionDock_ = new MotionChartDock(this);
   undoStack_ = new QUndoStack(this);
   addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
   addDockWidget(Qt::LeftDockWidgetArea, partDock_);
@@ -76,7 +78,9 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   controlsDock_->raise();
   addDockWidget(Qt::BottomDockWidgetArea, timelineDock_);
   addDockWidget(Qt::BottomDockWidgetArea, messagesDock_);
+  addDockWidget(Qt::BottomDockWidgetArea, motionDock_);
   tabifyDockWidget(timelineDock_, messagesDock_);
+  tabifyDockWidget(messagesDock_, motionDock_);
   timelineDock_->raise();
   resizeDocks({sceneDock_, partDock_}, {220, 480}, Qt::Vertical);
   resizeDocks({sceneDock_, controlsDock_}, {380, 330}, Qt::Horizontal);
@@ -152,6 +156,12 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     statusBar()->showMessage(tr("Refused: %1").arg(rule), 10000);
   });
   connect(undoStack_, &QUndoStack::cleanChanged, this, &MainWindow::updateTitle);
+  // Hidden, the motion chart does not sample: shown again, it replays what it missed.
+  connect(motionDock_, &QDockWidget::visibilityChanged, this, [this](bool visible) {
+    if (!visible) return;
+    motionStale_ = true;
+    updateLive();
+  });
   connect(partDock_, &PartDock::axesToggled, this, [this](bool shown) {
     axesShown_ = shown;
     showSelection(viewport_->selectedPart());
@@ -303,6 +313,7 @@ void MainWindow::createMenus() {
   view->addAction(gravityDock_->toggleViewAction());
   view->addAction(frictionDock_->toggleViewAction());
   view->addAction(methodsDock_->toggleViewAction());
+  view->addAction(motionDock_->toggleViewAction());
 
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);
@@ -426,6 +437,7 @@ void MainWindow::simulationStarted() {
   controlsDock_->setHoist(simulation_->world().hoist());
   controlsDock_->showBaseTarget(simulation_->baseTarget());
   timelineDock_->model()->clear();
+  motionStale_ = true;
   undoStack_->clear();  // its edits were of the previous world
   logChanged();
   updateLive();
@@ -454,6 +466,7 @@ void MainWindow::showSelection(std::optional<vaw::PartId> part) {
 
 void MainWindow::frameReady() {
   viewport_->applyFrame(simulation_->frame());
+  if (motionDock_->isVisible() && !motionStale_) motionDock_->follow(*simulation_, false, false);
   // The panels follow at a readable rate while it runs, at once when it is paused (a seek, a step).
   if (!simulation_->isPlaying() || lastLive_.elapsed() >= kLiveIntervalMs) updateLive();
   else if (!liveTimer_.isActive()) liveTimer_.start(static_cast<int>(kLiveIntervalMs - lastLive_.elapsed()));
@@ -473,6 +486,10 @@ void MainWindow::updateLive() {
   if (simulation_->world().hoist())
     controlsDock_->showHoist(recorded ? simulation_->world().lastInput().hoist : simulation_->hoist());
   updateTuning();
+  if (motionDock_->isVisible()) {
+    motionDock_->follow(*simulation_, motionStale_);
+    motionStale_ = false;
+  }
   updateStatus();
 }
 
@@ -494,11 +511,11 @@ void MainWindow::updateTuning() {
   QString fix;
   if (warn && advice->safeMethod) fix = tr("use %1").arg(QString::fromLatin1(vaw::dyn::name(*advice->safeMethod).data()));
   if (warn && advice->safeRate)
-    fix += (fix.isEmpty() ? tr("use ") : tr(" or ")) + tr("%1 Hz").arg(format::number(*advice->safeRate, 6));
+    fix += (fix.isEmpty() ? tr("use ") : tr(" or ")) + tr("%1 Hz").arg(QString::number(*advice->safeRate, 'g', 6));
   stabilityStatus_->setText(
       warn ? tr("⚠ %1: %2 at %3 Hz %4%5")
                  .arg(name, QString::fromLatin1(vaw::dyn::name(w.settings().rotationMethod).data()),
-                      format::number(w.settings().rate, 6),
+                      QString::number(w.settings().rate, 'g', 6),
                       advice->level == vaw::sim::StabilityAdvice::Level::Unstable ? tr("is unstable") : tr("is near its limit"),
                       fix.isEmpty() ? QString() : QStringLiteral(" (%1)").arg(fix))
            : QString());

@@ -498,7 +498,7 @@ void MethodsDock::showWorld(const vaw::sim::World& world, const std::optional<va
   if (advice->safeMethod)
     suggestion_->setText(tr("Use %1").arg(QString::fromLatin1(vaw::dyn::name(*advice->safeMethod).data())));
   else if (advice->safeRate)
-    suggestion_->setText(tr("Use %1 Hz").arg(format::number(*advice->safeRate, 6)));
+    suggestion_->setText(tr("Use %1 Hz").arg(QString::number(*advice->safeRate, 'g', 6)));
 }
 
 }  // namespace vaw::ui

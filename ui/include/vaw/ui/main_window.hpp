@@ -30,6 +30,7 @@ class LoadFeedback;
 class GravityDock;
 class FrictionDock;
 class MethodsDock;
+class MotionChartDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -48,6 +49,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] GravityDock* gravityDock() const { return gravityDock_; }
   [[nodiscard]] FrictionDock* frictionDock() const { return frictionDock_; }
   [[nodiscard]] MethodsDock* methodsDock() const { return methodsDock_; }
+  [[nodiscard]] MotionChartDock* motionDock() const { return motionDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -119,6 +121,8 @@ class MainWindow : public QMainWindow {
   GravityDock* gravityDock_ = nullptr;
   FrictionDock* frictionDock_ = nullptr;
   MethodsDock* methodsDock_ = nullptr;
+  MotionChartDock* motionDock_ = nullptr;
+  bool motionStale_ = true;  // a new world: the motion chart replays it when next shown
   QLabel* stabilityStatus_ = nullptr;
   QString scenePath_;  // where File > Save writes: the scene file opened or last saved as
   QLabel* status_ = nullptr;
