@@ -3,7 +3,9 @@
 #include <Qt3DExtras/Qt3DWindow>
 #include <Qt3DRender/QRenderCapture>
 #include <QRegularExpression>
+#include <QLineEdit>
 #include <QSignalSpy>
+#include <QTest>
 #include <memory>
 
 #include "vaw/ui/viewport.hpp"
@@ -62,6 +64,24 @@ double nonBackgroundFraction(const ui::Viewport* viewport, const QImage& image) 
     for (int x = 0; x < image.width(); ++x) different += differs(image.pixel(x, y), background, 6) ? 1 : 0;
   }
   return image.isNull() ? 0.0 : static_cast<double>(different) / (static_cast<double>(image.width()) * image.height());
+}
+
+void pressAndDrag(QWindow* window, const QPoint& from, const QPoint& to, int steps, int msPerStep,
+                  Qt::KeyboardModifiers modifiers) {
+  QTest::mousePress(window, Qt::LeftButton, modifiers, from);
+  for (int i = 1; i <= steps; ++i) {
+    QTest::mouseMove(window, from + (to - from) * i / steps);
+    QTest::qWait(msPerStep);
+  }
+}
+
+void typeInto(QAbstractSpinBox* box, const QString& text) {
+  box->setFocus();
+  QLineEdit* edit = box->findChild<QLineEdit*>();
+  if (edit == nullptr) return;
+  QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
+  QTest::keyClicks(edit, text);
+  QTest::keyClick(edit, Qt::Key_Return);
 }
 
 QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId id, const Eigen::Isometry3d& pose) {

@@ -1,7 +1,9 @@
 #pragma once
 // Shared by the GUI tests (Qt Test under Xvfb): any Qt warning fails the test, captures of the 3D view,
 // where a part shows on screen.
+#include <QAbstractSpinBox>
 #include <QImage>
+#include <QWindow>
 #include <QPoint>
 #include <QRgb>
 #include <QString>
@@ -29,6 +31,12 @@ double nonBackgroundFraction(const ui::Viewport* viewport, const QImage& image);
 // A window point where the viewport shows `part` at `pose`: the projection of the centre of its bounds,
 // or, when something else is in front of that, the nearest point of a grid over them; (-1, -1) if none.
 QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId part, const Eigen::Isometry3d& pose);
+
+// As a person does it: a press at `from` and a move in `steps` to `to`, each after `msPerStep`; no release.
+void pressAndDrag(QWindow* window, const QPoint& from, const QPoint& to, int steps, int msPerStep,
+                  Qt::KeyboardModifiers modifiers = {});
+// Types `text` into a spin box: focus, select all, the keys, Return.
+void typeInto(QAbstractSpinBox* box, const QString& text);
 
 // Where screenshots go (the build tree's tests/gui).
 QString shotPath(const QString& name);

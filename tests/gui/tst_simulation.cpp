@@ -143,12 +143,7 @@ void TestSimulation::open(const QString& scene) {
 
 void TestSimulation::pressAndDrag(const QPoint& from, const QPoint& to, int steps, int msPerStep,
                                   Qt::KeyboardModifiers mods) {
-  QWindow* w = viewport()->view3d();
-  QTest::mousePress(w, Qt::LeftButton, mods, from);
-  for (int i = 1; i <= steps; ++i) {
-    QTest::mouseMove(w, from + (to - from) * i / steps);
-    QTest::qWait(msPerStep);
-  }
+  vaw::guitest::pressAndDrag(viewport()->view3d(), from, to, steps, msPerStep, mods);
 }
 
 void TestSimulation::lookFrom(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre) {
@@ -167,12 +162,7 @@ void TestSimulation::screenshot(const QString& name) {
 }
 
 void TestSimulation::setSpin(QDoubleSpinBox* box, double value) {
-  box->setFocus();
-  QLineEdit* edit = box->findChild<QLineEdit*>();
-  QVERIFY(edit != nullptr);
-  QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
-  QTest::keyClicks(edit, QString::number(value));
-  QTest::keyClick(edit, Qt::Key_Return);
+  vaw::guitest::typeInto(box, QString::number(value));
   QCOMPARE(box->value(), value);
 }
 

@@ -192,14 +192,7 @@ void TestTuning::show(QDockWidget* dock) {
   QVERIFY(dock->isVisible());
 }
 
-void TestTuning::setSpin(QAbstractSpinBox* box, const QString& text) {
-  box->setFocus();
-  QLineEdit* edit = box->findChild<QLineEdit*>();
-  QVERIFY(edit != nullptr);
-  QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
-  QTest::keyClicks(edit, text);
-  QTest::keyClick(edit, Qt::Key_Return);
-}
+void TestTuning::setSpin(QAbstractSpinBox* box, const QString& text) { vaw::guitest::typeInto(box, text); }
 
 void TestTuning::editCell(QTableView* view, int row, int column, const QString& text) {
   const QModelIndex index = view->model()->index(row, column);
@@ -216,12 +209,7 @@ void TestTuning::editCell(QTableView* view, int row, int column, const QString& 
 }
 
 void TestTuning::pressAndDrag(const QPoint& from, const QPoint& to, int steps, int msPerStep) {
-  QWindow* w = viewport()->view3d();
-  QTest::mousePress(w, Qt::LeftButton, {}, from);
-  for (int i = 1; i <= steps; ++i) {
-    QTest::mouseMove(w, from + (to - from) * i / steps);
-    QTest::qWait(msPerStep);
-  }
+  vaw::guitest::pressAndDrag(viewport()->view3d(), from, to, steps, msPerStep);
 }
 
 void TestTuning::shot(QWidget* widget, const QString& name) {
