@@ -1,5 +1,6 @@
 // vaw-sim: the headless runner. `inspect` prints what vaw makes of a scene: per part its mass
 // properties and lifting category, with the reason.
+#include <algorithm>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
@@ -12,6 +13,7 @@
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
+#include "vaw/version.hpp"
 
 namespace {
 
@@ -141,8 +143,17 @@ int main(int argc, char** argv) {
     std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
     return args.empty() ? 2 : 0;
   }
+  if (args[0] == "--version") {
+    std::printf("vaw-sim %s\n", vaw::kVersion);
+    return 0;
+  }
   const std::string command = args[0];
   args.erase(args.begin());
+  // A subcommand's --help is a request for its usage, not a mistake in its arguments (trials has its own).
+  if (command != "trials" && std::find(args.begin(), args.end(), "--help") != args.end()) {
+    std::fputs(kUsage, stdout);
+    return 0;
+  }
   if (command == "inspect") return inspect(args);
   if (command == "states") {
     const bool dot = !args.empty() && args[0] == "--dot";
