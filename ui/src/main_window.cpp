@@ -178,7 +178,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   });
   connect(simulation_, &SimulationController::editApplied, this, [this](const QString& text) {
     message(static_cast<int>(MessageLogModel::Severity::Info), tr("Edit applied: %1").arg(text));
-    updateTuning();
+    updateLive();
   });
   connect(simulation_, &SimulationController::editRefused, this, [this](const QString& text) {
     message(static_cast<int>(MessageLogModel::Severity::Warning), tr("Edit refused: %1").arg(text));
@@ -477,7 +477,10 @@ void MainWindow::updateLive() {
   liveTimer_.stop();
   if (!simulation_->hasWorld()) return;
   const auto part = simulation_->selected();
-  if (part && partDock_->model()->part() == part) partDock_->model()->updateLive(vaw::sim::report(simulation_->world(), *part));
+  // One report per update: the inspector shows it and the tuning panels take its stability advice.
+  std::optional<vaw::sim::PartReport> selected;
+  if (part) selected = vaw::sim::report(simulation_->world(), *part);
+  if (selected && partDock_->model()->part() == part) partDock_->model()->updateLive(*selected);
   const vaw::sim::Recorder& r = simulation_->recorder();
   timelineDock_->view()->setTimes(r.world().time(), r.endTime(), !r.atEnd(), simulation_->isPlayback());
   // A recording (played back, or looked at in the past) shows the base as it held it.
@@ -485,7 +488,7 @@ void MainWindow::updateLive() {
   controlsDock_->showBaseTarget(recorded ? simulation_->worldBaseAngles() : simulation_->baseTarget());
   if (simulation_->world().hoist())
     controlsDock_->showHoist(recorded ? simulation_->world().lastInput().hoist : simulation_->hoist());
-  updateTuning();
+  updateTuning(selected ? selected->stability : std::nullopt);
   if (motionDock_->isVisible()) {
     motionDock_->follow(*simulation_, motionStale_);
     motionStale_ = false;
@@ -493,18 +496,12 @@ void MainWindow::updateLive() {
   updateStatus();
 }
 
-void MainWindow::updateTuning() {
-  if (!simulation_->hasWorld()) return;
+void MainWindow::updateTuning(const std::optional<vaw::sim::StabilityAdvice>& advice) {
   const vaw::sim::World& w = simulation_->world();
   const auto part = simulation_->selected();
   gravityDock_->showWorld(w);
   frictionDock_->model()->showWorld(&w, part);
-  std::optional<vaw::sim::StabilityAdvice> advice;
-  QString name;
-  if (part) {
-    advice = vaw::sim::stabilityAdvice(w, *part);
-    name = QString::fromStdString(w.assembly().parts[*part].name);
-  }
+  const QString name = part ? QString::fromStdString(w.assembly().parts[*part].name) : QString();
   methodsDock_->showWorld(w, advice, name);
   const bool warn = advice && advice->level != vaw::sim::StabilityAdvice::Level::Stable;
   stabilityStatus_->setVisible(warn);
@@ -534,7 +531,7 @@ void MainWindow::requestTuning(const vaw::sim::Edit& edit, int mergeKey) {
     const QString text = tr("Refused: %1").arg(QString::fromStdString(problem));
     message(static_cast<int>(MessageLogModel::Severity::Warning), text);
     statusBar()->showMessage(text, 10000);
-    updateTuning();  // the panel shows the value kept
+    updateLive();  // the panel shows the value kept
     return;
   }
   // What the world has now, as a whole value of the same kind: undo sends it back.

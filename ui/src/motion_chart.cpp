@@ -8,8 +8,8 @@
 #include <limits>
 
 #include "vaw/sim/recorder.hpp"
+#include "vaw/sim/report.hpp"
 #include "vaw/ui/simulation_controller.hpp"
-#include "vaw/units.hpp"
 
 namespace vaw::ui {
 
@@ -61,16 +61,8 @@ MotionChartDock::MotionChartDock(QWidget* parent) : QDockWidget(tr("Motion"), pa
 
 MotionChartDock::Sample MotionChartDock::sample(const vaw::sim::World& world, vaw::PartId id) {
   const vaw::sim::PartRuntime& r = world.part(id);
-  const vaw::Part& p = world.assembly().parts[id];
-  const Eigen::Matrix3d R = r.pose.linear();
-  const Eigen::Matrix3d I = R * p.mass.inertiaCm * R.transpose();
-  const double z = (r.pose * p.mass.centerOfMass).z();
-  Sample s;
-  s.t = world.time();
-  s.speed = r.velocity.norm();
-  s.energy = 0.5 * p.mass.mass * r.velocity.squaredNorm() + 0.5 * r.angularVelocity.dot(I * r.angularVelocity) +
-             p.mass.mass * kStandardGravity * z;
-  return s;
+  const auto e = vaw::sim::energy(world.assembly().parts[id], r.pose, r.velocity, r.angularVelocity);
+  return {world.time(), e.kinetic + e.potential, r.velocity.norm()};
 }
 
 void MotionChartDock::refill(const SimulationController& simulation) {

@@ -217,17 +217,21 @@ void SimulationController::reset() {
     return;
   }
   // The scene as loaded, with the tuning as it is now: the settings (gravity, method, rate) carry over and
-  // the friction that differs from the new world's (the scene's own) is applied again at step 0.
+  // the friction that differs from the scene's own (its materials and its settings block's part overrides,
+  // what a new world starts with) is applied again at step 0.
   const vaw::sim::World& w = recorder_->world();
   const auto scene = recorder_->scenePtr();
-  const vaw::sim::World fresh(scene, w.settings());
+  const vaw::Assembly& a = scene->assembly();
   std::vector<vaw::sim::Edit> tuning;
-  for (const auto& [name, m] : scene->assembly().materials)
-    if (!(w.materialFriction(name) == fresh.materialFriction(name)))
+  for (const auto& [name, m] : a.materials)
+    if (!(w.materialFriction(name) == vaw::FrictionValues{m.staticFriction, m.kineticFriction, m.rotationalFriction}))
       tuning.emplace_back(vaw::sim::MaterialFrictionEdit{name, w.materialFriction(name)});
-  for (vaw::PartId id = 0; id < scene->assembly().parts.size(); ++id)
-    if (w.frictionOverride(id) != fresh.frictionOverride(id))
-      tuning.emplace_back(vaw::sim::PartFrictionEdit{id, w.frictionOverride(id)});
+  for (vaw::PartId id = 0; id < a.parts.size(); ++id) {
+    const auto now = w.frictionOverride(id);
+    const auto own = a.settings.partFriction.find(id);
+    const bool same = own == a.settings.partFriction.end() ? !now : (now && *now == own->second);
+    if (!same) tuning.emplace_back(vaw::sim::PartFrictionEdit{id, now});
+  }
   const bool wasPlaying = isPlaying();
   start(scene, QString::fromStdString(recorder_->session().scene), w.settings());
   for (const auto& e : tuning) (void)recorder_->apply(e);

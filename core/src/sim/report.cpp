@@ -58,6 +58,12 @@ std::optional<StabilityAdvice> stabilityAdvice(const World& world, PartId id) {
   return a;
 }
 
+PartEnergy energy(const Part& p, const Eigen::Isometry3d& pose, const Eigen::Vector3d& v, const Eigen::Vector3d& w) {
+  const Eigen::Matrix3d R = pose.linear();
+  const Eigen::Matrix3d I = R * p.mass.inertiaCm * R.transpose();
+  return {0.5 * p.mass.mass * v.squaredNorm() + 0.5 * w.dot(I * w), p.mass.mass * kStandardGravity * (pose * p.mass.centerOfMass).z()};
+}
+
 PartReport report(const World& world, PartId id) {
   const PartRuntime& r = world.part(id);
   const Part& p = world.assembly().parts[id];
@@ -103,10 +109,9 @@ PartReport report(const World& world, PartId id) {
       break;
   }
   if (r.constraint) out.constraint = world.assembly().constraints[*r.constraint].name;
-  const Eigen::Matrix3d R = r.pose.linear();
-  const Eigen::Matrix3d I = R * p.mass.inertiaCm * R.transpose();
-  out.kineticEnergy = 0.5 * p.mass.mass * out.velocity.squaredNorm() + 0.5 * out.angularVelocity.dot(I * out.angularVelocity);
-  out.potentialEnergy = p.mass.mass * kStandardGravity * out.centreOfMass.z();
+  const PartEnergy e = energy(p, r.pose, out.velocity, out.angularVelocity);
+  out.kineticEnergy = e.kinetic;
+  out.potentialEnergy = e.potential;
   for (auto it = world.transitions().rbegin(); it != world.transitions().rend(); ++it)
     if (it->part == id) {
       out.lastTransition = *it;

@@ -47,6 +47,13 @@ struct PartReport {
 
 PartReport report(const World& world, PartId part);
 
+// Kinetic energy (translation and rotation) of a part moving with centre-of-mass velocity v and angular
+// velocity w (world), and m g z of its centre of mass under standard gravity, in J.
+struct PartEnergy {
+  double kinetic = 0.0, potential = 0.0;
+};
+PartEnergy energy(const Part& part, const Eigen::Isometry3d& pose, const Eigen::Vector3d& v, const Eigen::Vector3d& w);
+
 std::string_view name(Holder h);  // "none", "left hand", "right hand", "both hands", "hoist"
 
 }  // namespace vaw::sim

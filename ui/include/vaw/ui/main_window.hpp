@@ -10,6 +10,7 @@
 
 #include "vaw/assembly.hpp"
 #include "vaw/sim/edit.hpp"
+#include "vaw/sim/report.hpp"
 
 class QAction;
 class QLabel;
@@ -95,7 +96,7 @@ class MainWindow : public QMainWindow {
   void message(int severity, const QString& text, const QString& detail = {});
   // A tuning edit from a panel: refused with the rule it breaks, or pushed on the undo stack.
   void requestTuning(const vaw::sim::Edit& edit, int mergeKey);
-  void updateTuning();
+  void updateTuning(const std::optional<vaw::sim::StabilityAdvice>& advice);
   void addRecent(const QString& path);
   void updateRecentMenu();
   void updateTitle();
