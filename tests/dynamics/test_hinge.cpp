@@ -185,7 +185,16 @@ TEST(Hinge, DegenerateGeometryIsDefined) {
   const HingeTorque t = vertical.torque(Eigen::Matrix3d::Identity(), worldGravity());
   EXPECT_EQ(t.A, 0.0);
   EXPECT_EQ(t.B, 0.0);
-  EXPECT_THROW(vertical.step(s, t, 0.01, Method::Exact), std::invalid_argument);
+}
+
+TEST(Hinge, StatesTheMethodsItSupports) {
+  // Exact has no closed form for a rotation (the torque depends on the angle): it is not in the list,
+  // and the settings parsers refuse it there, before anything steps.
+  for (Method m : kAllMethods) EXPECT_EQ(supports(Hinge::kMethods, m), m != Method::Exact) << name(m);
+  EXPECT_EQ(describe(Hinge::kMethods), "paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
+  EXPECT_EQ(parseMethod("rk4", Hinge::kMethods), Method::RK4);
+  EXPECT_FALSE(parseMethod("exact", Hinge::kMethods));
+  EXPECT_EQ(parseMethod("exact", kSlideMethods), Method::Exact);
 }
 
 TEST(Hinge, PartPoseRotatesAboutTheAxisAndSlidesAlongIt) {

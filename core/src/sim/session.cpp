@@ -3,10 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <map>
 #include <numbers>
 
 #include "../json_node.hpp"
+#include "vaw/dynamics/hinge.hpp"
 
 namespace vaw::sim {
 
@@ -99,14 +99,6 @@ HandInput handFrom(const Node& n) {
   return h;
 }
 
-const std::map<std::string, dyn::Method>& methods() {
-  static const std::map<std::string, dyn::Method> m{{"paper-explicit", dyn::Method::PaperExplicit},
-                                                    {"semi-implicit-euler", dyn::Method::SemiImplicitEuler},
-                                                    {"velocity-verlet", dyn::Method::VelocityVerlet},
-                                                    {"rk4", dyn::Method::RK4}};
-  return m;
-}
-
 Json settingsJson(const Settings& s) {
   return Json{{"rate", s.rate},
               {"gravity_scale", {{"free_flight", s.gravity.freeFlight}, {"slide", s.gravity.slide}, {"rotation", s.gravity.rotation}}},
@@ -129,9 +121,9 @@ Settings settingsFrom(const Node& n) {
   s.gravity.slide = g.get("slide").nonNegative();
   s.gravity.rotation = g.get("rotation").nonNegative();
   const Node m = n.get("rotation_method");
-  const auto it = methods().find(m.string());
-  if (it == methods().end()) m.fail("paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
-  s.rotationMethod = it->second;
+  const auto method = dyn::parseMethod(m.string(), dyn::Hinge::kMethods);
+  if (!method) m.fail("a method a rotation about an axis supports: " + dyn::describe(dyn::Hinge::kMethods));
+  s.rotationMethod = *method;
   const Node r = n.get("release");
   const Node est = r.get("estimator");
   if (est.string() == "windowed-fit") s.release.estimator = interact::ReleaseEstimator::WindowedFit;
