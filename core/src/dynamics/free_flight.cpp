@@ -42,12 +42,15 @@ Eigen::Quaterniond swingOf(const Motion& m, const Jacobi& j) {
   return Eigen::Quaterniond(1.0 + m.sz * l.z(), m.sz * l.y(), -m.sz * l.x(), 0.0).normalized();
 }
 
-// Part frame -> world for the elliptic state j and the angle psi.
+// Part frame -> world for the elliptic state j and the angle psi: Q Rot_p(psi) A(t) F^-1, with the
+// constant outer product Q (.) F^-1 as one 4 x 4 matrix and Rot_p(psi) A(t) multiplied out (p = sz e_z,
+// A has no z part).
 Eigen::Quaterniond orientationOf(const Motion& m, const Jacobi& j, double psi) {
-  const Eigen::Quaterniond swing = swingOf(m, j);
-  const double c = std::cos(0.5 * psi), s = std::sin(0.5 * psi);
-  const Eigen::Quaterniond aboutPole(c, 0.0, 0.0, m.sz * s);
-  return m.q * (aboutPole * swing) * m.frame.conjugate();
+  const Eigen::Quaterniond a = swingOf(m, j);
+  const double c = std::cos(0.5 * psi), zs = m.sz * std::sin(0.5 * psi);
+  const Eigen::Vector4d inner(c * a.w(), c * a.x() - zs * a.y(), c * a.y() + zs * a.x(), zs * a.w());  // (w, x, y, z)
+  const Eigen::Vector4d q = m.outer * inner;
+  return Eigen::Quaterniond(q[0], q[1], q[2], q[3]);
 }
 
 Motion makeMotion(const Release& r, const Eigen::Matrix3d& inertia) {
@@ -119,6 +122,11 @@ Motion makeMotion(const Release& r, const Eigen::Matrix3d& inertia) {
   m.rateAlong = twoE / m.momentum;
   // Q from the release orientation: R0 F = Q A(0).
   m.q = (m.orientation0 * m.frame * swingOf(m, m.start).conjugate()).normalized();
+  for (int i = 0; i < 4; ++i) {
+    const Eigen::Vector4d e = Eigen::Vector4d::Unit(i);
+    const Eigen::Quaterniond column = m.q * Eigen::Quaterniond(e[0], e[1], e[2], e[3]) * m.frame.conjugate();
+    m.outer.col(i) << column.w(), column.x(), column.y(), column.z();
+  }
   return m;
 }
 

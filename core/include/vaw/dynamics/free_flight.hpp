@@ -66,6 +66,7 @@ class TorqueFree {
     bool stationary = true;                // a spin about a principal axis (or none): constant omega
     Eigen::Quaterniond frame;              // principal frame (x, y, z; z the pole) -> part frame
     Eigen::Quaterniond q;                  // Q: the pole frame at psi = 0 -> world
+    Eigen::Matrix4d outer;                 // the coefficients (w, x, y, z) of Q r F^-1 from those of r
     Eigen::Vector3d moments;               // Ix, Iy, Iz
     Eigen::Vector3d amplitude;             // ax, ay, az: Omega = (ax cn, sy ay sn, sz az dn)
     double sy = 1.0, sz = 1.0;
