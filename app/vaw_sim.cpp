@@ -1,7 +1,12 @@
 // vaw-sim: the headless runner. `inspect` prints what vaw makes of a scene: per part its mass
 // properties and lifting category, with the reason.
+#include <unistd.h>
+
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -118,20 +123,31 @@ int inspect(const std::vector<std::string>& args) {
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
     for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());
+  // A large file takes seconds: say how far it is, on a terminal, at most every whole percent.
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  int shown = -1;
+  const vaw::ProgressFn progress = [tty, &shown](double fraction, const std::string& stage) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (tty && percent != shown) {
+      shown = percent;
+      std::fprintf(stderr, "\rvaw-sim: loading %3d %% %-40.40s", percent, stage.c_str());
+    }
+    return true;
+  };
   try {
-    const vaw::Assembly a = vaw::loadAny(file, importers, options);
+    const vaw::Assembly a = vaw::loadAny(vaw::resolveScenePath(file), importers, options, progress);
+    if (tty) std::fprintf(stderr, "\r%70s\r", "");
     if (json) std::cout << toJson(a).dump(2) << '\n';
     else printTable(a);
     return 0;
   } catch (const vaw::InputError& e) {
+    if (tty) std::fprintf(stderr, "\n");
     std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
     return 1;
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int dispatch(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
@@ -153,4 +169,23 @@ int main(int argc, char** argv) {
   if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
   std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
   return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // A file-size limit then fails the write (EFBIG), which is reported, instead of killing the process
+  // with a half-written file.
+  std::signal(SIGXFSZ, SIG_IGN);
+  // Every failure ends as a named error and exit status 1; nothing aborts.
+  try {
+    return dispatch(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "vaw-sim: error: out of memory\n");
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "vaw-sim: error: file system: %s\n", e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
+  }
+  return 1;
 }

@@ -64,7 +64,11 @@ std::size_t weldVertices(TriMesh& mesh, double tolerance) {
       kept.push_back(v);
       continue;
     }
-    const Cell c = (v / cell).array().floor().cast<std::int64_t>();
+    // Clamped so that a vertex far out (or a tiny tolerance) cannot overflow the integer cell or its
+    // neighbours' (undefined behaviour); clamped vertices share edge cells and are still compared by
+    // their true distance.
+    constexpr double kCellLimit = 4.0e18;  // below 2^63 - 1 with room for the +-1 neighbours
+    const Cell c = (v / cell).array().floor().max(-kCellLimit).min(kCellLimit).cast<std::int64_t>();
     int found = -1;
     for (int dx = -1; dx <= 1 && found < 0; ++dx)
       for (int dy = -1; dy <= 1 && found < 0; ++dy)

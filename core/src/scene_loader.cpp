@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "json_node.hpp"
+#include "vaw/limits.hpp"
+#include "vaw/paths.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/property_file.hpp"
 
@@ -49,7 +51,7 @@ std::string toString(double v) {
 Eigen::Isometry3d readPose(const Node& n, double L) {
   n.allowOnly({"position", "rotation"});
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  if (auto p = n.opt("position")) pose.translation() = p->vec3() * L;
+  if (auto p = n.opt("position")) pose.translation() = p->position(L);
   if (auto r = n.opt("rotation")) pose.linear() = r->rotation();
   return pose;
 }
@@ -78,7 +80,9 @@ double readDensity(const Node& n) {
   else if (n.json().is_string()) rho = parseDensity(n.string());
   else n.fail("a density: a number in kg/m^3 or \"<value> kg/m^3|g/cm^3|lb/in^3\"");
   if (!rho) n.fail("a density with a known unit: kg/m^3, g/cm^3 or lb/in^3");
-  if (!(*rho > 0.0) || !std::isfinite(*rho)) n.failWith("a positive, finite density", toString(*rho) + " kg/m^3");
+  if (!(*rho >= limits::kMinDensity && *rho <= limits::kMaxDensity))
+    n.failWith("a density from " + toString(limits::kMinDensity) + " to " + toString(limits::kMaxDensity) + " kg/m^3",
+               toString(*rho) + " kg/m^3");
   return *rho;
 }
 
@@ -88,33 +92,35 @@ TriMesh readPrimitive(const Node& n, double L) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (auto p = n.opt("pose")) pose = readPose(*p, L);
   auto segments = [&](const char* key, int def, int minimum) {
-    if (auto s = n.opt(key)) {
-      const int v = s->integer();
-      if (v < minimum || v > 4096) s->fail("an integer from " + std::to_string(minimum) + " to 4096");
-      return v;
-    }
+    if (auto s = n.opt(key)) return s->integer(minimum, limits::kMaxSegments);
     return def;
+  };
+  // A length in file units, within the world's size bounds once converted.
+  auto length = [L](const Node& v) {
+    const double x = v.positive() * L;
+    if (!(x >= limits::kMinSize && x <= limits::kMaxSize))
+      v.failWith("a length from " + toString(limits::kMinSize) + " m to " + toString(limits::kMaxSize) + " m", toString(x) + " m");
+    return x;
   };
   TriMesh m;
   if (type == "box") {
     n.allowOnly({"type", "size", "pose"});
     const Node s = n.get("size");
-    const Eigen::Vector3d size = s.vec3() * L;
-    if ((size.array() <= 0.0).any()) s.fail("three positive lengths");
-    m = primitives::box(size);
+    if (!s.json().is_array() || s.size() != 3) s.fail("three positive lengths");
+    m = primitives::box({length(s.at(0)), length(s.at(1)), length(s.at(2))});
   } else if (type == "cylinder") {
     n.allowOnly({"type", "radius", "height", "segments", "pose"});
-    m = primitives::cylinder(n.get("radius").positive() * L, n.get("height").positive() * L, segments("segments", 64, 3));
+    m = primitives::cylinder(length(n.get("radius")), length(n.get("height")), segments("segments", 64, 3));
   } else if (type == "tube") {
     n.allowOnly({"type", "outer_radius", "inner_radius", "height", "segments", "pose"});
-    const double ro = n.get("outer_radius").positive() * L;
+    const double ro = length(n.get("outer_radius"));
     const Node inner = n.get("inner_radius");
-    const double ri = inner.positive() * L;
+    const double ri = length(inner);
     if (ri >= ro) inner.fail("an inner radius smaller than outer_radius");
-    m = primitives::tube(ro, ri, n.get("height").positive() * L, segments("segments", 64, 3));
+    m = primitives::tube(ro, ri, length(n.get("height")), segments("segments", 64, 3));
   } else if (type == "sphere") {
     n.allowOnly({"type", "radius", "segments", "rings", "pose"});
-    m = primitives::sphere(n.get("radius").positive() * L, segments("segments", 64, 3), segments("rings", 32, 2));
+    m = primitives::sphere(length(n.get("radius")), segments("segments", 64, 3), segments("rings", 32, 2));
   } else {
     n.get("type").fail("a primitive type: \"box\", \"cylinder\", \"tube\" or \"sphere\"");
   }
@@ -129,6 +135,14 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
   const auto nonFinite = std::count_if(mesh.vertices.begin(), mesh.vertices.end(), [](const Eigen::Vector3d& v) { return !v.allFinite(); });
   if (nonFinite > 0)
     vaw::fail(file, "vertices", "finite vertex coordinates", std::to_string(nonFinite) + " NaN or infinite vertices");
+  const auto far = std::find_if(mesh.vertices.begin(), mesh.vertices.end(),
+                                [](const Eigen::Vector3d& v) { return v.cwiseAbs().maxCoeff() > limits::kMaxCoordinate; });
+  if (far != mesh.vertices.end()) {
+    std::ostringstream where;
+    where << "a vertex at (" << far->x() << ", " << far->y() << ", " << far->z() << ") m";
+    vaw::fail(file, "vertices", "coordinates within " + toString(limits::kMaxCoordinate) + " m of the origin (the world bound)",
+              where.str());
+  }
   const auto n = static_cast<int>(mesh.vertices.size());
   const auto badIndices = std::count_if(mesh.triangles.begin(), mesh.triangles.end(),
                                         [n](const Eigen::Vector3i& t) { return t.minCoeff() < 0 || t.maxCoeff() >= n; });
@@ -163,11 +177,12 @@ class MeshCache {
   MeshCache(const ImporterRegistry& importers, Diagnostics& warnings) : importers_(importers), warnings_(warnings) {}
 
   const Imported& get(const std::filesystem::path& file, double L, const Node& field, const ProgressFn& progress) {
-    const std::string key = std::filesystem::weakly_canonical(file).string() + "|" + toString(L);
-    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    if (const std::string problem = fileProblem(file); !problem.empty())
+      field.failWith("an existing, readable mesh file", "\"" + file.string() + "\": " + problem);
     std::error_code ec;
-    if (!std::filesystem::exists(file, ec))
-      field.failWith("an existing mesh file", "\"" + file.string() + "\" does not exist");
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(file, ec);
+    const std::string key = (ec ? file.lexically_normal() : canonical).string() + "|" + toString(L);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
     const MeshImporter* importer = importers_.find(file);
     if (!importer) {
       std::string exts;
@@ -223,10 +238,9 @@ class SceneReader {
     progress_.report(0.0, "reading " + path_.filename().string());
     json_ = detail::readJsonFile(path_);
     const Node root(json_, "", file_);
-    root.requireObject();
+    root.requireFormat("vaw-scene");
     root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment", "constraints"});
-    const Node format = root.get("format");
-    if (format.string() != "vaw-scene") format.fail("\"vaw-scene\"");
+    if (auto d = root.opt("description")) (void)d->string();
     const Node version = root.get("version");
     if (version.integer() != kSceneFormatVersion) version.fail("version " + std::to_string(kSceneFormatVersion) + " (the version this vaw reads)");
 
@@ -242,7 +256,7 @@ class SceneReader {
     const Node parts = root.get("parts");
     parts.requireArray();
     if (parts.size() == 0) parts.fail("at least one part");
-    collectParts(parts, Eigen::Isometry3d::Identity(), assembly_.tree);
+    collectParts(parts, Eigen::Isometry3d::Identity(), assembly_.tree, 0);
     for (std::size_t i = 0; i < specs_.size(); ++i) {
       progress_.report(0.05 + 0.85 * static_cast<double>(i) / static_cast<double>(specs_.size()),
                        "part " + std::to_string(i + 1) + " of " + std::to_string(specs_.size()));
@@ -297,19 +311,27 @@ class SceneReader {
       if (auto d = m.opt("density")) mat.density = readDensity(*d);
       if (auto f = m.opt("friction")) {
         f->allowOnly({"static", "kinetic", "rotational"});
-        mat.staticFriction = f->get("static").nonNegative();
+        const Node st = f->get("static");
+        mat.staticFriction = st.number(0.0, limits::kMaxFriction, "");
         const Node kin = f->get("kinetic");
-        mat.kineticFriction = kin.nonNegative();
+        mat.kineticFriction = kin.number(0.0, limits::kMaxFriction, "");
         if (mat.kineticFriction > mat.staticFriction)
           kin.fail("a kinetic coefficient no larger than the static one (" + toString(mat.staticFriction) + ")");
-        if (auto r = f->opt("rotational")) mat.rotationalFriction = r->nonNegative();
+        if (auto r = f->opt("rotational")) mat.rotationalFriction = r->number(0.0, limits::kMaxRotationalFriction, "N m s");
+        if (mat.staticFriction > limits::kUnusualFriction)
+          assembly_.warnings.push_back({Diagnostic::Severity::Warning, file_, st.path(),
+                                        "a friction coefficient up to " + toString(limits::kUnusualFriction) +
+                                            " (rubber on dry concrete is about 1)",
+                                        toString(mat.staticFriction) + ", used as given"});
       }
       if (auto c = m.opt("color")) mat.color = readColor(*c);
       assembly_.materials.emplace(key, mat);
     }
   }
 
-  void collectParts(const Node& list, const Eigen::Isometry3d& parentPose, TreeNode& parent) {
+  void collectParts(const Node& list, const Eigen::Isometry3d& parentPose, TreeNode& parent, int depth) {
+    if (depth > limits::kMaxGroupDepth)
+      list.failWith("groups nested at most " + std::to_string(limits::kMaxGroupDepth) + " deep", "deeper nesting");
     for (std::size_t i = 0; i < list.size(); ++i) {
       const Node e = list.at(i);
       e.requireObject();
@@ -326,7 +348,7 @@ class SceneReader {
         parent.children.push_back(std::move(group));
         const Node children = e.get("children");
         children.requireArray();
-        collectParts(children, pose, parent.children.back());
+        collectParts(children, pose, parent.children.back(), depth + 1);
       } else {
         if (!partNames_.insert(name).second) nameNode.fail("a part name not used before in this scene");
         TreeNode leaf;
@@ -398,17 +420,25 @@ class SceneReader {
     part.mesh = shape.mesh;
     part.shapeSource = shape.source;
     part.pose = spec.parentPose;
-    if (auto p = e.opt("pose")) part.pose = spec.parentPose * readPose(*p, units_.L);
-    if (auto p = e.opt("final_pose")) part.finalPose = spec.parentPose * readPose(*p, units_.L);
+    // Each pose is within the world bound; so must be the pose its groups' poses compose to.
+    const auto composed = [&](const char* key) {
+      const Node p = e.get(key);
+      const Eigen::Isometry3d pose = spec.parentPose * readPose(p, units_.L);
+      if (!(pose.translation().cwiseAbs().maxCoeff() <= limits::kMaxCoordinate))
+        p.failWith("a pose within " + toString(limits::kMaxCoordinate) + " m of the origin with its groups' poses",
+                   "a position " + toString(pose.translation().cwiseAbs().maxCoeff()) + " m out");
+      return pose;
+    };
+    if (e.has("pose")) part.pose = composed("pose");
+    if (e.has("final_pose")) part.finalPose = composed("final_pose");
 
     std::optional<double> density = mat->second.density;
     if (auto d = e.opt("density")) density = readDensity(*d);
     if (density) part.meshMass = massPropertiesFromMesh(*part.mesh, *density);
     if (auto pf = e.opt("properties")) {
       part.propertyFile = dir_ / pf->string();
-      std::error_code ec;
-      if (!std::filesystem::exists(part.propertyFile, ec))
-        pf->failWith("an existing property file", "\"" + part.propertyFile.string() + "\" does not exist");
+      if (const std::string problem = fileProblem(part.propertyFile); !problem.empty())
+        pf->failWith("an existing, readable property file", "\"" + part.propertyFile.string() + "\": " + problem);
       part.fileMass = readPropertyFile(part.propertyFile).mass;
     }
     if (part.fileMass) {
@@ -472,11 +502,11 @@ class SceneReader {
 
   Plane readPlane(const Node& n) {
     n.allowOnly({"point", "normal"});
-    return {n.get("point").vec3() * units_.L, n.get("normal").direction()};
+    return {n.get("point").position(units_.L), n.get("normal").direction()};
   }
   Axis readAxis(const Node& n) {
     n.allowOnly({"point", "direction"});
-    return {n.get("point").vec3() * units_.L, n.get("direction").direction()};
+    return {n.get("point").position(units_.L), n.get("direction").direction()};
   }
 
   void readConstraints(const Node& list) {
@@ -492,7 +522,10 @@ class SceneReader {
         con.type = type == "mate" ? Constraint::Type::Mate : Constraint::Type::Align;
         con.partPlane = readPlane(c.get("part_plane"));
         con.basePlane = readPlane(c.get("base_plane"));
-        if (auto o = c.opt("offset")) con.offset = o->number() * units_.L;
+        if (auto o = c.opt("offset")) {
+          con.offset = o->number() * units_.L;
+          if (!(std::abs(con.offset) <= limits::kMaxCoordinate)) o->fail("an offset within the world bound of 1000 m");
+        }
       } else if (type == "insert") {
         c.allowOnly({"type", "name", "part", "part_axis", "base_axis"});
         con.type = Constraint::Type::Insert;
@@ -569,8 +602,8 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
   a.source = file;
   a.name = file.filename().string();
   a.categorySettings = options.categories;
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) fail(file.string(), "", "an existing mesh file", "no such file");
+  if (const std::string problem = fileProblem(file); !problem.empty())
+    fail(file.string(), "", "an existing, readable file", problem);
   const MeshImporter* importer = importers.find(file);
   if (!importer) fail(file.string(), "", "a mesh format an importer plugin reads", "\"" + file.extension().string() + "\"");
   ImportedMesh im = importer->read(file, progress.sub(0.0, 0.7));
@@ -628,6 +661,8 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
 
 Assembly loadAny(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
                  const ProgressFn& progress) {
+  if (const std::string problem = fileProblem(file); !problem.empty())
+    fail(file.string(), "", "an existing, readable file", problem + " (" + scenePlaces(file) + ")");
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".json" || ext == ".vaw") return loadScene(file, importers, options, progress);

@@ -1,12 +1,15 @@
 #pragma once
-// Record and replay (issue 5): a session holds the scene reference, the settings and every step's input,
-// so a fresh World fed the same inputs reproduces every state and transition bit for bit. Also the input
-// script (docs/inputs-format.md: keyframes sampled at the step rate) and the CSV exports.
+// Record and replay: a session holds the scene reference, the settings and every step's input, so a
+// fresh World fed the same inputs reproduces every state and transition bit for bit. Also the input
+// script (docs/inputs-format.md: keyframes sampled at the step rate) and the CSV exports. Every file is
+// written through vaw::AtomicFile: a failed or interrupted write leaves the previous file.
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "vaw/atomic_file.hpp"
 #include "vaw/sim/world.hpp"
 
 namespace vaw::sim {
@@ -26,6 +29,7 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
 
 // JSON with doubles written for an exact round trip.
 void saveSession(const Session& s, const std::filesystem::path& file);
+void saveSession(const Session& s, AtomicFile& out);  // into a file the caller commits
 Session loadSession(const std::filesystem::path& file);
 
 // One row per part per step, written after each step.
@@ -42,7 +46,11 @@ struct TrajectoryRow {
 World replay(const Assembly& assembly, const Session& s, const std::function<void(const World&)>& afterStep = {});
 
 void appendTrajectory(const World& w, std::vector<TrajectoryRow>& rows);
+// The trajectories CSV: its header, and one row as text (for writers that stream a long run).
+inline constexpr std::string_view kTrajectoriesCsvHeader = "step,t,part,state,x,y,z,qw,qx,qy,qz\n";
+void appendTrajectoryCsv(const World& w, const TrajectoryRow& row, std::string& out);
 void writeTrajectoriesCsv(const World& w, const std::vector<TrajectoryRow>& rows, const std::filesystem::path& file);
 void writeTransitionsCsv(const World& w, const std::filesystem::path& file);
+void writeTransitionsCsv(const World& w, AtomicFile& out);  // into a file the caller commits
 
 }  // namespace vaw::sim
