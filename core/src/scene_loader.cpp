@@ -129,8 +129,13 @@ TriMesh readPrimitive(const Node& n, double L) {
 }
 
 // Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid.
-void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings) {
+void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings, const ProgressFn& progressFn) {
+  const Progress progress(progressFn);
   if (mesh.triangles.empty()) vaw::fail(file, "mesh", "a mesh with triangles", "no triangles");
+  if (mesh.triangles.size() > limits::kMaxTriangles)
+    vaw::fail(file, "triangles", "at most " + std::to_string(limits::kMaxTriangles) + " triangles in one mesh",
+              std::to_string(mesh.triangles.size()));
+  progress.report(0.0, "welding vertices");
   // Before welding only what would poison the weld matters; the edge checks run once, after it.
   const auto nonFinite = std::count_if(mesh.vertices.begin(), mesh.vertices.end(), [](const Eigen::Vector3d& v) { return !v.allFinite(); });
   if (nonFinite > 0)
@@ -151,6 +156,7 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
   const double diag = mesh.bounds().diagonal().norm();
   // STL stores every corner separately; welding them is routine, not worth a warning.
   weldVertices(mesh, 1e-9 * diag);
+  progress.report(0.5, "checking edges");
   const std::size_t degenerate = removeDegenerateTriangles(mesh, 1e-14 * diag * diag);
   if (degenerate > 0)
     warnings.push_back({Diagnostic::Severity::Warning, file, "triangles", "triangles with non-zero area",
@@ -159,10 +165,21 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
   if (!c.closed()) vaw::fail(file, "mesh", "a closed mesh (every edge shared by exactly two triangles)", c.summary());
   if (!c.consistentlyOriented())
     vaw::fail(file, "mesh", "consistently oriented triangles (every edge traversed once each way)", c.summary());
+  progress.report(0.9, "volume");
   const double volume = integrateVolume(mesh).volume;
   if (!(volume > 0.0))
     vaw::fail(file, "mesh", "outward-facing triangles enclosing a positive volume",
               volume < 0.0 ? "volume " + toString(volume) + " m^3: the normals point inward (inverted)" : "zero volume");
+}
+
+// Before a mesh file is read whole into memory.
+void checkMeshFileSize(const std::filesystem::path& file, const std::optional<Node>& field) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (ec || bytes <= limits::kMaxMeshFileBytes) return;
+  const std::string expected = "a mesh file of at most 2 GiB", found = std::to_string(bytes) + " bytes";
+  if (field) field->failWith(expected, "\"" + file.string() + "\": " + found);
+  vaw::fail(file.string(), "", expected, found);
 }
 
 struct Imported {
@@ -190,13 +207,15 @@ class MeshCache {
       field.failWith("a mesh format an importer plugin reads (" + (exts.empty() ? std::string("no importer plugins loaded") : exts) + ")",
                      "\"" + file.extension().string() + "\"");
     }
-    ImportedMesh im = importer->read(file, progress);
+    checkMeshFileSize(file, field);
+    const Progress scaled(progress);
+    ImportedMesh im = importer->read(file, scaled.sub(0.0, 0.6));
     Imported out;
     out.root = std::move(im.root);
     out.warnings = std::move(im.warnings);
     TriMesh mesh = out.root.merged();
     mesh.scale(L);
-    validateSolid(mesh, file.string(), warnings_);
+    validateSolid(mesh, file.string(), warnings_, scaled.sub(0.6, 1.0));
     out.mesh = std::make_shared<const TriMesh>(std::move(mesh));
     return cache_.emplace(key, std::move(out)).first->second;
   }
@@ -606,7 +625,8 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
     fail(file.string(), "", "an existing, readable file", problem);
   const MeshImporter* importer = importers.find(file);
   if (!importer) fail(file.string(), "", "a mesh format an importer plugin reads", "\"" + file.extension().string() + "\"");
-  ImportedMesh im = importer->read(file, progress.sub(0.0, 0.7));
+  checkMeshFileSize(file, std::nullopt);
+  ImportedMesh im = importer->read(file, progress.sub(0.0, 0.6));
   for (const auto& w : im.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
 
   // glTF is metres by its specification; the other formats carry no unit.
@@ -632,11 +652,13 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
   a.tree.name = a.name;
   const std::string fileStr = file.string();
   for (std::size_t i = 0; i < roots.size(); ++i) {
-    progress.report(0.7 + 0.3 * static_cast<double>(i) / static_cast<double>(roots.size()), "part " + std::to_string(i + 1));
+    const double from = 0.6 + 0.4 * static_cast<double>(i) / static_cast<double>(roots.size());
+    const double to = 0.6 + 0.4 * static_cast<double>(i + 1) / static_cast<double>(roots.size());
+    progress.report(from, "part " + std::to_string(i + 1));
     const ImportedNode& n = *roots[i];
     TriMesh mesh = n.merged();
     mesh.scale(L);
-    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), a.warnings);
+    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), a.warnings, progress.sub(from, to));
     Part p;
     p.id = i;
     p.name = n.name.empty() || roots.size() == 1 ? file.stem().string() : n.name;

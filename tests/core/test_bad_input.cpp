@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
+#include "vaw/limits.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/property_file.hpp"
 #include "vaw/scene_loader.hpp"
@@ -278,6 +279,32 @@ TEST(BadInputSuite, MeshSymlinkLoopIsNamed) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_EQ(e.diagnostic().found.rfind("a loop of symbolic links", 0), 0u) << e.what();
+  }
+}
+
+TEST(BadInputSuite, TooManyTrianglesAreRefusedBeforeTheChecks) {
+  // Welding and the edge checks of a mesh grow with its size (5 million triangles: about 9 s and
+  // 1.1 GB); a mesh above the stated limit is refused before them. An importer that returns one.
+  struct Huge final : MeshImporter {
+    [[nodiscard]] std::string name() const override { return "huge"; }
+    [[nodiscard]] std::vector<std::string> extensions() const override { return {"huge"}; }
+    [[nodiscard]] bool canRead(const std::filesystem::path&) const override { return true; }
+    [[nodiscard]] ImportedMesh read(const std::filesystem::path&, const ProgressFn&) const override {
+      ImportedMesh m;
+      m.root.mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+      m.root.mesh.triangles.assign(limits::kMaxTriangles + 1, Eigen::Vector3i(0, 1, 2));
+      return m;
+    }
+  };
+  ImporterRegistry importers;
+  importers.add(std::make_unique<Huge>());
+  const auto file = test::writeFile(test::tempDir() / "big.huge", "");
+  try {
+    (void)loadMeshFile(file, importers);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().field, "triangles") << e.what();
+    EXPECT_EQ(e.diagnostic().expected, "at most 10000000 triangles in one mesh") << e.what();
   }
 }
 

@@ -29,5 +29,9 @@ inline constexpr int kMaxSegments = 4096;         // a primitive's segments or r
 inline constexpr int kMaxGroupDepth = 32;         // groups nested in a scene
 inline constexpr int kMaxJsonDepth = 100;         // arrays and objects nested in any JSON file
 inline constexpr std::size_t kMaxJsonBytes = std::size_t{1} << 30;  // 1 GiB
+// A mesh file, and the triangles of one mesh: loading 5 million triangles takes about 9 s and 1.1 GB
+// (docs/benchmarks.md); twice that is the most a workstation is asked to hold.
+inline constexpr std::size_t kMaxMeshFileBytes = std::size_t{2} << 30;  // 2 GiB
+inline constexpr std::size_t kMaxTriangles = 10'000'000;
 
 }  // namespace vaw::limits
