@@ -1,5 +1,5 @@
 #pragma once
-// Collision checks for the workbench (PHYSICS.md section 5, the paper's section 6), on FCL. FCL stays
+// Collision checks for the workbench (docs/physics.md, "Collision checks on the base"; the paper's section 6), on FCL. FCL stays
 // inside the implementation: nothing here names an FCL type.
 //
 // A CollisionWorld is built once from an Assembly: one bounding-volume hierarchy per part mesh (meshes are

@@ -1,8 +1,8 @@
 #pragma once
 // Where along one step's motion a part first meets something (docs/collision.md, "Time of impact").
 // A motion is the part's own reduced coordinate s mapped to a pose, with a bound on how fast any point of
-// the part moves per unit of s. FCL's continuous collision is not used (TOOLCHAIN.md: it misses obvious
-// pass-throughs); instead:
+// the part moves per unit of s. FCL's continuous collision is not used (in FCL 0.7 it misses
+// obvious pass-throughs); instead:
 // - free flight: conservative advancement on the distance to everything reachable (never steps past a
 //   contact, so no tunnelling whatever the speed), stopping within `tolerance` of the first contact;
 // - on the base: the blocked and touching checks sampled so that no point of the part moves more than

@@ -1,5 +1,5 @@
 #pragma once
-// The simulation world (issue 5): joins the part states (interaction/states.hpp), the reduced motion models
+// The simulation world: joins the part states (interaction/states.hpp), the reduced motion models
 // (dynamics/*) and the collision checks (collision/*) into one deterministic, fixed-step simulation.
 //
 // One way for data to flow: an Input per step (hands, the base as held in the left hand, the hoist) goes in
