@@ -1,5 +1,5 @@
 // vaw-sim: the headless runner. `inspect` prints what vaw makes of a scene: per part its mass
-// properties and lifting category, with the reason.
+// properties and lifting category, with the reason, and how each constraint meets the base.
 #include <unistd.h>
 
 #include <csignal>
@@ -13,6 +13,7 @@
 
 #include "run_command.hpp"
 #include "work_precision_command.hpp"
+#include "vaw/collision/collision_world.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
@@ -26,7 +27,8 @@ constexpr const char* kUsage =
     "       vaw-sim run SCENE --inputs SCRIPT --out DIR | run --replay SESSION --out DIR\n"
     "\n"
     "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
-    "             centre of mass, principal moments, category and why.\n"
+    "             centre of mass, principal moments, category and why; per constraint, how it meets\n"
+    "             the base (a bore on a shaft: both radii and the clearance)\n"
     "  --json     print JSON instead of a table\n"
     "  --categories PRESET   lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)\n"
     "  work-precision  run every scenario (slide with stop, gear pendulum undamped and damped,\n"
@@ -40,7 +42,7 @@ constexpr const char* kUsage =
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json toJson(const vaw::Assembly& a) {
+nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
   nlohmann::json parts = nlohmann::json::array();
   for (const auto& p : a.parts) {
     nlohmann::json j{{"name", p.name},
@@ -61,6 +63,18 @@ nlohmann::json toJson(const vaw::Assembly& a) {
                            {"inertia_rel", p.disagreement->inertiaRel}};
     parts.push_back(std::move(j));
   }
+  nlohmann::json fitList = nlohmann::json::array();
+  for (const auto& f : fits) {
+    const vaw::Constraint& c = a.constraints[f.constraint];
+    nlohmann::json j{{"constraint", c.name},
+                     {"type", std::string(vaw::name(c.type))},
+                     {"part", a.parts[c.part].name},
+                     {"ok", f.support.problem.empty()},
+                     {"fit", f.text}};
+    if (f.support.kind == vaw::collision::Support::Kind::Axis && f.support.problem.empty())
+      j["clearance_m"] = f.support.clearance;
+    fitList.push_back(std::move(j));
+  }
   nlohmann::json warnings = nlohmann::json::array();
   for (const auto& w : a.warnings) warnings.push_back(w.message());
   return {{"name", a.name},
@@ -70,11 +84,12 @@ nlohmann::json toJson(const vaw::Assembly& a) {
           {"parts", parts},
           {"environment", a.environment.size()},
           {"constraints", a.constraints.size()},
+          {"fits", fitList},
           {"triangles", a.totalTriangles()},
           {"warnings", warnings}};
 }
 
-void printTable(const vaw::Assembly& a) {
+void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
   std::printf("%s (%s): %zu parts, %zu environment objects, %zu constraints, %zu triangles; categories: %s\n",
               a.name.c_str(), a.source.string().c_str(), a.parts.size(), a.environment.size(), a.constraints.size(),
               a.totalTriangles(), a.categorySettings.preset.c_str());
@@ -92,6 +107,10 @@ void printTable(const vaw::Assembly& a) {
     if (p.disagreement)
       std::printf("%-18s property file vs mesh: mass %.3f %%, centre of mass %.3f mm, inertia %.3f %%\n", "",
                   100.0 * p.disagreement->massRel, 1e3 * p.disagreement->comDistance, 100.0 * p.disagreement->inertiaRel);
+  }
+  for (const auto& f : fits) {
+    const vaw::Constraint& c = a.constraints[f.constraint];
+    std::printf("constraint %s (%s): %s\n", c.name.c_str(), a.parts[c.part].name.c_str(), f.text.c_str());
   }
   for (const auto& w : a.warnings) std::printf("warning: %s\n", w.message().c_str());
 }
@@ -137,8 +156,11 @@ int inspect(const std::vector<std::string>& args) {
   try {
     const vaw::Assembly a = vaw::loadAny(vaw::resolveScenePath(file), importers, options, progress);
     if (tty) std::fprintf(stderr, "\r%70s\r", "");
-    if (json) std::cout << toJson(a).dump(2) << '\n';
-    else printTable(a);
+    // How each constraint meets the base (the fit's clearance, or why it does not fit): surface patches
+    // of the constrained parts only.
+    const auto fits = vaw::collision::constraintFits(a);
+    if (json) std::cout << toJson(a, fits).dump(2) << '\n';
+    else printTable(a, fits);
     return 0;
   } catch (const vaw::InputError& e) {
     if (tty) std::fprintf(stderr, "\n");

@@ -91,6 +91,8 @@ struct SupportCache {
   // SKIP_COAXIAL ignores anyway.
   std::vector<char> baseInside;
   bool axisCull = false;
+  double partNearest = 0.0;  // m, nearest point of the part to its own axis (its bore's radius)
+  double fitRadius = 0.0;    // m, of the base's cylinders in the fit
 };
 
 struct CollisionWorld::Impl {
@@ -345,6 +347,10 @@ struct PairContext {
   bool stop = false;
   // Node culling for a support's blocked check (A = the part, B = the base); null when not in force.
   const std::vector<char>* bBelow = nullptr;
+  // A support's fit with clearance (A = the part, B = the base): these bore-and-shaft pairs are coaxial
+  // with their axes up to `fitClearance` apart (the part rests in its play) and radii that differ.
+  const std::vector<std::pair<int, int>>* fit = nullptr;
+  double fitClearance = 0.0;
 
   // Every triangle pair of node b1 (of A) and node b2 (of B) would be dropped by the mode.
   bool skipsWhole(int b1, int b2) {
@@ -403,8 +409,10 @@ struct PairContext {
     const Eigen::Vector3d pb = R * b.point + T;
     Eigen::Vector3d off = pb - a.point;
     off -= a.direction * a.direction.dot(off);
-    const bool yes = std::abs(a.direction.dot(db)) >= cosAngle && off.norm() <= tol.distance + tol.radius &&
-                     std::abs(a.radius - b.radius) <= tol.radius;
+    const bool inFit = fit && std::find(fit->begin(), fit->end(), std::pair{ca, cb}) != fit->end();
+    const double play = inFit ? fitClearance : 0.0;
+    const bool yes = std::abs(a.direction.dot(db)) >= cosAngle && off.norm() <= tol.distance + tol.radius + play &&
+                     (inFit || std::abs(a.radius - b.radius) <= tol.radius);
     coaxCache[key] = yes ? 1 : 0;
     return yes;
   }
@@ -680,6 +688,14 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     }
   w.manager->registerObjects(all);
   w.manager->setup();
+  // What the part inspector shows of a constrained part: how each of its constraints meets the base.
+  if (w.base)
+    for (const Constraint& c : assembly.constraints) {
+      if (c.part >= w.parts.size()) continue;
+      std::string& fit = w.parts[c.part].info.fit;
+      fit += (fit.empty() ? "" : "; ") +
+             describeFit(matchSupport(c, *w.base, patches(ObjectId::part(c.part)), patches(ObjectId::part(*w.base)), w.tol));
+    }
 }
 
 CollisionWorld::~CollisionWorld() = default;
@@ -800,6 +816,8 @@ QueryResult CollisionWorld::query(ObjectId a, ObjectId b, const QueryOptions& op
 namespace {
 struct Cull {
   const std::vector<char>* bBelow = nullptr;
+  const std::vector<std::pair<int, int>>* fit = nullptr;  // PairContext::fit
+  double fitClearance = 0.0;
 };
 QueryResult runQuery(const Tolerances& tol, const WorldObject& A, const Eigen::Isometry3d& poseA, const WorldObject& B,
                      const QueryOptions& options, const Cull& cull);
@@ -818,6 +836,8 @@ QueryResult runQuery(const Tolerances& tol, const WorldObject& A, const Eigen::I
   if (A.bvh && B.bvh) {
     PairContext ctx;
     ctx.bBelow = cull.bBelow;
+    ctx.fit = cull.fit;
+    ctx.fitClearance = cull.fitClearance;
     ctx.A = &A;
     ctx.B = &B;
     ctx.mode = options.mode;
@@ -909,13 +929,19 @@ BlockResult CollisionWorld::blocked(const Support& s, const Eigen::Isometry3d& p
         }
       } else {
         o.mode = FilterMode::SkipCoaxial;
+        cull.fit = &s.fitPairs;
+        cull.fitClearance = s.clearance;
         if (cache && cache->axisCull) {
+          // Every point of the part stays at least nearest - off - tilt * reach from the base's axis: no
+          // closer than the shaft's surface (less a tenth of the tolerance), where only the fit can touch.
           const Eigen::Isometry3d partToBase = baseToWorld.inverse() * pose;
           const Eigen::Vector3d up = partToBase.linear() * s.partAxis.direction;
           Eigen::Vector3d off = partToBase * s.partAxis.point - s.baseAxis.point;
           off -= s.baseAxis.direction * s.baseAxis.direction.dot(off);
           const double sinTilt = up.cross(s.baseAxis.direction).norm();
-          if (off.norm() + sinTilt * cache->partReach <= 0.1 * tol.distance) cull.bBelow = &cache->baseInside;
+          if (cache->partNearest - off.norm() - sinTilt * cache->partReach >= cache->fitRadius - 0.1 * tol.distance &&
+              off.norm() <= s.clearance + 0.1 * tol.distance)
+            cull.bBelow = &cache->baseInside;
         }
       }
     }
@@ -997,6 +1023,8 @@ void CollisionWorld::prepare(Support& s) const {
       reach = std::max(reach, (v - op).norm());
     }
     cache->partReach = reach;
+    cache->partNearest = nearest;
+    cache->fitRadius = r;
     cache->axisCull = nearest >= r - 0.1 * tol;
     s.cache = std::move(cache);
     return;

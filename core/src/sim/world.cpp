@@ -62,6 +62,8 @@ struct PartModel {
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  // holder frame -> part (hand, hoist)
   Eigen::Isometry3d inBase = Eigen::Isometry3d::Identity();  // part in base frame (PLACED, model reference)
   std::optional<dyn::Hinge> hinge;                           // cylindrical
+  double clearance = 0.0;                                    // m, radial play of the fit (cylindrical)
+  Eigen::Vector3d play = Eigen::Vector3d::Zero();            // base frame: where the play puts the part
   Eigen::Vector3d nb = Eigen::Vector3d::UnitZ(), e1b = Eigen::Vector3d::UnitX(), e2b = Eigen::Vector3d::UnitY();
   double radius = 0.0;                                       // largest distance from the axis (or CM)
   Eigen::Vector3d blockedDir = Eigen::Vector3d::Zero();     // base frame: the way it was last blocked
@@ -200,13 +202,33 @@ struct World::Impl {
   [[nodiscard]] Eigen::Isometry3d inBaseOf(PartId id, double angle, double slide, const Eigen::Vector2d& p) const {
     const PartRuntime& r = parts[id];
     const PartModel& m = models[id];
-    if (r.model == Model::Cylindrical && m.hinge) return m.hinge->partInBase(angle, slide);
+    if (r.model == Model::Cylindrical && m.hinge) {
+      Eigen::Isometry3d pose = m.hinge->partInBase(angle, slide);
+      pose.pretranslate(m.play);
+      return pose;
+    }
     if (r.model == Model::Plane) {
       Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
       shift.translation() = m.e1b * p.x() + m.e2b * p.y();
       return shift * m.inBase;
     }
     return m.inBase;
+  }
+  // A bore with clearance rests on the side of its shaft that gravity pulls it to: its axis lies
+  // `clearance` off the shaft's, along gravity's part across the axis (base frame). The slide's normal force
+  // is that same part of gravity (dyn::splitGravity), so the friction is the contact's. With gravity
+  // along the axis there is no such side, and the part stays where it was.
+  void updatePlay(PartId id) {
+    PartModel& m = models[id];
+    if (m.clearance <= 0.0 || !m.hinge) {
+      m.play.setZero();
+      return;
+    }
+    const Eigen::Vector3d u = m.hinge->axisInBase();
+    Eigen::Vector3d g = basePose.linear().transpose() * gravity(settings.gravity.slide);
+    g -= u * u.dot(g);
+    if (g.norm() <= 1e-9 * kStandardGravity) return;
+    m.play = g.normalized() * m.clearance;
   }
   [[nodiscard]] Eigen::Isometry3d currentInBase(PartId id) const {
     const PartRuntime& r = parts[id];
@@ -293,8 +315,14 @@ struct World::Impl {
                                  d.mass.inertiaCm, material(id).rotationalFriction);
       r.model = m.hinge ? Model::Cylindrical : Model::None;
       m.radius = collision.maxRadius(collision::ObjectId::part(id), c.partAxis);
+      m.clearance = support(ci).clearance;
+      m.play.setZero();
+      updatePlay(id);
+      setPose(id, basePose * currentInBase(id));
     } else {
       m.hinge.reset();
+      m.clearance = 0.0;
+      m.play.setZero();
       r.model = Model::Plane;
       const dyn::PlaneSlideInput in = dyn::planeInWorld(c.basePlane.normal, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero());
       m.nb = in.n;
@@ -393,6 +421,7 @@ struct World::Impl {
     flush(id);
     PartRuntime& r = parts[id];
     PartModel& m = models[id];
+    updatePlay(id);
     const dyn::Friction fr{material(id).staticFriction, material(id).kineticFriction};
     const collision::Support& sup = support(*r.constraint);
     const Eigen::Isometry3d B = basePose;
@@ -455,7 +484,7 @@ struct World::Impl {
     Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
     if (r.model == Model::Cylindrical) {
       const Eigen::Vector3d u = B.linear() * m.hinge->axisInBase();
-      const Eigen::Vector3d arm = comWorld(id) - B * assembly.constraints[*r.constraint].baseAxis.point;
+      const Eigen::Vector3d arm = comWorld(id) - B * Eigen::Vector3d(assembly.constraints[*r.constraint].baseAxis.point + m.play);
       w = u * r.omega;
       v = u * r.slideRate + w.cross(arm - u * u.dot(arm));
     } else {
@@ -510,6 +539,7 @@ struct World::Impl {
   void checkStart(PartId id) {
     PartRuntime& r = parts[id];
     PartModel& m = models[id];
+    updatePlay(id);
     setPose(id, basePose * currentInBase(id));
     if (r.model == Model::None || !r.constraint) return;
     const dyn::Friction fr{material(id).staticFriction, material(id).kineticFriction};
