@@ -4,9 +4,11 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/collision/time_of_impact.hpp"
@@ -73,6 +75,16 @@ struct PartModel {
   Eigen::Vector3d gFree = Eigen::Vector3d::Zero();
   dyn::RotationModel rotation = dyn::RotationModel::ConstantOmega;
   std::optional<dyn::TorqueFree> torqueFree;
+  // The motions on the base that can meet nothing (collision::FreeMotion), found at `slide` / `planeP` and
+  // valid while the base keeps the pose `base` and no other object moves (`others`, World::Impl::moves).
+  struct Free {
+    bool valid = false;
+    std::uint64_t others = 0;
+    Eigen::Matrix4d base = Eigen::Matrix4d::Identity();
+    double slide = 0.0;
+    Eigen::Vector2d planeP = Eigen::Vector2d::Zero();
+    collision::FreeMotion motion;
+  } free;
 };
 
 struct World::Impl {
@@ -97,6 +109,10 @@ struct World::Impl {
   std::uint64_t stepIndex = 0;
   double t = 0.0;
   std::size_t active = 0;
+  // Pose changes, of all parts and per part: a part's free motion stays valid while every change since it
+  // was found is its own.
+  std::uint64_t moves = 0;
+  std::vector<std::uint64_t> ownMoves;
   std::vector<char> dirty;        // per part: pose not yet given to the collision world
   std::vector<PartId> dirtyList;
   std::vector<PartId> awake;  // parts not STATIC (and not the base), in id order
@@ -109,6 +125,7 @@ struct World::Impl {
     models.resize(assembly.parts.size());
     supports.resize(assembly.constraints.size());
     dirty.assign(assembly.parts.size(), 0);
+    ownMoves.assign(assembly.parts.size(), 0);
     for (std::size_t i = 0; i < parts.size(); ++i) {
       parts[i].id = i;
       parts[i].pose = assembly.parts[i].pose;
@@ -154,6 +171,10 @@ struct World::Impl {
   // flushed only before a query by another part (or a grab, which reads bounds): with one active part the
   // step costs nothing per resting part.
   void setPose(PartId id, const Eigen::Isometry3d& pose) {
+    if (!(pose.matrix() == parts[id].pose.matrix())) {
+      ++moves;
+      ++ownMoves[id];
+    }
     parts[id].pose = pose;
     if (!dirty[id]) {
       dirty[id] = 1;
@@ -176,7 +197,9 @@ struct World::Impl {
 
   // ---- the base ----
   void moveBase(const std::optional<Eigen::Isometry3d>& pose) {
-    if (pose && base) {
+    // A base held still costs nothing: the broad phase's update is O(all objects) in FCL 0.7.
+    if (pose && base && !(pose->matrix() == basePose.matrix())) {
+      ++moves;
       basePose = *pose;
       parts[*base].pose = basePose;
       collision.setPose(collision::ObjectId::part(*base), basePose);
@@ -309,6 +332,7 @@ struct World::Impl {
     m.sliding = false;
     m.blockedDir.setZero();
     m.blockedRot = 0.0;
+    m.free.valid = false;
     m.inBase = basePose.inverse() * r.pose;
     if (c.type == Constraint::Type::Insert) {
       m.hinge = dyn::Hinge::make(c.baseAxis.point, c.baseAxis.direction, m.inBase, d.mass.mass, d.mass.centerOfMass,
@@ -412,6 +436,29 @@ struct World::Impl {
   }
 
   // ---- on the base ----
+  // The fraction of a step's straight path (in the model's coordinates, from (s0, p0) to (s1, p1)) that stays
+  // inside the free motion, from its start: 1 when all of it does, 0 when its start is outside; and what
+  // bounds the free motion where the path leaves it.
+  using Bound = collision::FreeMotion::Bound;
+  [[nodiscard]] static std::pair<double, Bound> freeFraction(const PartModel::Free& f, Model model, double s0, double s1,
+                                                            const Eigen::Vector2d& p0, const Eigen::Vector2d& p1) {
+    const collision::FreeMotion& fm = f.motion;
+    if (model == Model::Cylindrical) {
+      const double d0 = s0 - f.slide, d1 = s1 - f.slide;
+      if (!(d0 >= fm.axialMin && d0 <= fm.axialMax)) return {0.0, Bound::Conservative};
+      if (d1 >= fm.axialMin && d1 <= fm.axialMax) return {1.0, Bound::Conservative};
+      const bool up = d1 > fm.axialMax;
+      return {((up ? fm.axialMax : fm.axialMin) - d0) / (d1 - d0), up ? fm.atMax : fm.atMin};
+    }
+    // Plane: the path from q0 to q1 leaves the disc of the free radius where |q0 + x (q1 - q0)| = radius.
+    const Eigen::Vector2d q0 = p0 - f.planeP, dq = p1 - p0;
+    const double r2 = fm.radius * fm.radius;
+    if (!(q0.squaredNorm() < r2)) return {0.0, Bound::Conservative};
+    if ((q0 + dq).squaredNorm() < r2) return {1.0, Bound::Conservative};
+    const double a = dq.squaredNorm(), b = q0.dot(dq), c = q0.squaredNorm() - r2;
+    return {std::clamp((-b + std::sqrt(b * b - a * c)) / a, 0.0, 1.0), fm.atMax};
+  }
+
   [[nodiscard]] double torqueEps(PartId id) const {
     return 1e-6 * def(id).mass.mass * kStandardGravity * std::max(settings.gravity.rotation, 1e-12);
   }
@@ -463,14 +510,38 @@ struct World::Impl {
     ev.kind = collision::EventKind::None;
     ev.s = 1.0;
     if (travel > 1e-12) {
-      collision::Motion motion;
-      motion.s0 = 0.0;
-      motion.s1 = 1.0;
-      motion.speedBound = travel;
-      motion.pose = [this, id, B, a0, a1, s0, s1, p0, p1](double x) {
-        return B * inBaseOf(id, a0 + x * (a1 - a0), s0 + x * (s1 - s0), p0 + x * (p1 - p0));
-      };
-      ev = collision::firstEventOnBase(collision, sup, motion);
+      // Along the part of the step that stays inside the free motion found around an earlier pose nothing
+      // can happen; only the rest is searched, starting where it leaves it (docs/collision.md, "Free motion").
+      const std::uint64_t others = moves - ownMoves[id];
+      if (!m.free.valid || m.free.others != others || !(m.free.base == B.matrix())) {
+        m.free.motion = collision.freeMotion(sup, B * inBaseOf(id, a0, s0, p0));
+        m.free.valid = true;
+        m.free.others = others;
+        m.free.base = B.matrix();
+        m.free.slide = s0;
+        m.free.planeP = p0;
+      }
+      const auto [inside, bound] = freeFraction(m.free, r.model, s0, s1, p0, p1);
+      if (inside < 1.0) {
+        collision::Motion motion;
+        motion.s0 = inside;
+        motion.s1 = 1.0;
+        motion.speedBound = travel;
+        motion.pose = [this, id, B, a0, a1, s0, s1, p0, p1](double x) {
+          return B * inBaseOf(id, a0 + x * (a1 - a0), s0 + x * (s1 - s0), p0 + x * (p1 - p0));
+        };
+        collision::ToiOptions options;
+        options.startFree = inside > 0.0;
+        // Where an obstacle bounds the free motion, it ends half a tolerance inside it: a first sample one
+        // tolerance farther is blocked by a face-on contact, and brackets the event to the tolerance without
+        // bisection; the part is left where the free motion ends, half a tolerance inside the allowance, not
+        // on it, where rounding would decide whether it is blocked where it rests. Where the touch ends it,
+        // touch is lost within two tolerances.
+        if (bound == Bound::Obstacle) options.firstStep = options.tolerance;
+        if (bound == Bound::Touch) options.firstStep = 2.0 * options.tolerance;
+        ev = collision::firstEventOnBase(collision, sup, motion, options);
+        m.free.valid = false;  // found again around the next step's start
+      }
     }
     const double x = ev.kind == collision::EventKind::None ? 1.0 : ev.s;
     r.angle = a0 + x * (a1 - a0);

@@ -149,6 +149,25 @@ struct TouchResult {
   std::string reason;        // when not touching
 };
 
+// Around a part resting on its support, the motions of its reduced model that can meet nothing: along
+// them the part is neither blocked nor loses touch (docs/collision.md, "Free motion"). Found from what the
+// support precomputes (the base's faces near the part's path, the fit's spans, the support face's outline)
+// and the boxes of the other objects the path reaches, without a mesh query, so the world need not sample
+// the two checks along a step that stays inside it.
+struct FreeMotion {
+  // Axis: any slide along the base's axis by d in [axialMin, axialMax] (m, from the pose asked about),
+  // with any turn about the part's own axis. Plane: any slide in the base's plane shorter than `radius`.
+  // Zero when nothing is known free (the part is near an obstacle or an edge, or off its support).
+  double axialMin = 0.0, axialMax = 0.0;
+  double radius = 0.0;
+  // What ends it there: the span of an obstacle's face (met face-on, the part is blocked within a tolerance
+  // beyond; a span is a bound, so it may also be met later or passed), the end of the touch (lost within
+  // two tolerances beyond), or a conservative bound. A search beyond an obstacle or the touch's end looks
+  // first just beyond it. The plane's radius uses `atMax`.
+  enum class Bound : std::uint8_t { Conservative, Obstacle, Touch };
+  Bound atMin = Bound::Conservative, atMax = Bound::Conservative;
+};
+
 struct BlockResult {
   bool blocked = false;
   std::vector<Contact> contacts;  // the blocking pairs found (penetration beyond their allowance)
@@ -234,6 +253,9 @@ class CollisionWorld {
   // Anything at all in the way of an object at a pose (free flight): NOCARE against every reachable object;
   // touching-only pairs are ignored unless `countTouching`.
   [[nodiscard]] BlockResult colliding(ObjectId id, const Eigen::Isometry3d& pose, bool countTouching = false) const;
+  // The motions free of events around the part at `partPose` on its support (FreeMotion). Costs a broad-phase
+  // query and a pass over the support's few precomputed obstacles, no mesh query.
+  [[nodiscard]] FreeMotion freeMotion(const Support& s, const Eigen::Isometry3d& partPose) const;
 
   // Centre of mass of a part, part frame (from the assembly).
   [[nodiscard]] Eigen::Vector3d centreOfMass(PartId p) const;
