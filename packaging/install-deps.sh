@@ -15,6 +15,8 @@ packages=(
   qt6-qpa-plugins qt6-3d-defaultgeometryloader-plugin qt6-3d-assimpsceneimport-plugin
   # tests and benchmarks
   libbenchmark-dev libgtest-dev
+  # the fuzzers (clang's libFuzzer and sanitizer runtimes), and the format and lint configurations
+  clang libclang-rt-dev clang-format clang-tidy
   # optional peers for the work-precision chart
   libbullet-dev libode-dev
   # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe)
