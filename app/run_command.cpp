@@ -1,12 +1,27 @@
 // `vaw-sim run SCENE --inputs SCRIPT --out DIR` and `vaw-sim run --replay SESSION --out DIR`: runs the
 // simulation world headless over scripted (or recorded) inputs and writes DIR/trajectories.csv,
 // DIR/transitions.csv and DIR/session.vaw-session.json (which replays bit for bit).
+//
+// Output integrity: each file is written completely to a temporary file beside it (vaw::AtomicFile, every
+// write checked), and the three are renamed into place together only once all are complete, under a
+// lock on DIR/.vaw-run.lock: concurrent runs into one DIR leave the three files of one run, and a failed
+// or killed run leaves the previous run's files.
 #include "run_command.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <string>
+#include <system_error>
+#include <vector>
 
+#include "vaw/atomic_file.hpp"
+#include "vaw/error.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
@@ -16,12 +31,23 @@ namespace vaw::app {
 
 namespace {
 
-std::filesystem::path resolveScene(const std::string& scene) {
-  const std::filesystem::path p(scene);
-  if (std::filesystem::exists(p)) return p;
-  const std::filesystem::path bundled = resourceDir() / "scenes" / p;
-  return std::filesystem::exists(bundled) ? bundled : p;
-}
+// Holds an exclusive lock on DIR/.vaw-run.lock for its lifetime.
+class DirectoryLock {
+ public:
+  explicit DirectoryLock(const std::filesystem::path& dir) {
+    const std::filesystem::path file = dir / ".vaw-run.lock";
+    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0) throw OutputError("cannot lock " + file.string() + ": " + std::strerror(errno));
+  }
+  ~DirectoryLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+  DirectoryLock(const DirectoryLock&) = delete;
+  DirectoryLock& operator=(const DirectoryLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 }  // namespace
 
@@ -57,17 +83,38 @@ int run(const std::vector<std::string>& args) {
       session.scene = scene;
       session.inputs = sim::loadInputScript(inputs, session.settings);
     }
-    const auto loaded = sim::Scene::build(loadAny(resolveScene(session.scene), importers));
+    const auto loaded = sim::Scene::build(loadAny(resolveScenePath(session.scene), importers));
     if (replayFile.empty()) session.sceneHash = loaded->contentHash();
     const Assembly& assembly = loaded->assembly();
-    std::vector<sim::TrajectoryRow> rows;
-    rows.reserve(session.inputs.size() * assembly.parts.size());
-    const sim::World w = sim::replay(loaded, session, [&rows](const sim::World& world) { sim::appendTrajectory(world, rows); });
-    std::filesystem::create_directories(out);
     const std::filesystem::path dir(out);
-    sim::writeTrajectoriesCsv(w, rows, dir / "trajectories.csv");
-    sim::writeTransitionsCsv(w, dir / "transitions.csv");
-    sim::saveSession(session, dir / "session.vaw-session.json");
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec || !std::filesystem::is_directory(dir, ec))
+      throw OutputError("cannot create the output directory " + dir.string() + ": " +
+                        (ec ? ec.message() : std::string("something else is there")));
+    // The trajectories stream into their temporary file as the world steps: a long run needs no memory
+    // for them, and a full disk stops the run at once.
+    AtomicFile trajectories(dir / "trajectories.csv");
+    trajectories << sim::kTrajectoriesCsvHeader;
+    std::vector<sim::TrajectoryRow> rows;
+    std::string text;
+    const sim::World w = sim::replay(loaded, session, [&](const sim::World& world) {
+      rows.clear();
+      text.clear();
+      sim::appendTrajectory(world, rows);
+      for (const auto& row : rows) sim::appendTrajectoryCsv(world, row, text);
+      trajectories << text;
+    });
+    trajectories.finish();
+    AtomicFile transitions(dir / "transitions.csv"), sessionFile(dir / "session.vaw-session.json");
+    sim::writeTransitionsCsv(w, transitions);
+    transitions.finish();
+    sim::saveSession(session, sessionFile);
+    sessionFile.finish();
+    {
+      const DirectoryLock lock(dir);
+      for (AtomicFile* f : {&trajectories, &transitions, &sessionFile}) f->publish();
+    }
     std::printf("%zu steps at %g Hz (%.4f s), %zu parts, %zu transitions, %zu refusals, %zu edits, state hash %016llx\n",
                 session.inputs.size(), session.settings.rate, w.time(), assembly.parts.size(), w.transitions().size(),
                 w.refusals().size(), w.edits().size(), static_cast<unsigned long long>(w.stateHash()));
@@ -84,6 +131,9 @@ int run(const std::vector<std::string>& args) {
                 (dir / "session.vaw-session.json").c_str());
     return 0;
   } catch (const InputError& e) {
+    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
+    return 1;
+  } catch (const OutputError& e) {
     std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
     return 1;
   }

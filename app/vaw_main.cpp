@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
   if (files.size() > 1) {  // the desktop entry passes %F; one assembly is open at a time
     std::fprintf(stderr, "vaw: opening %s only; one file at a time\n", qPrintable(files.first()));
   }
-  const QString path = files.isEmpty() ? QFile::decodeName(vaw::defaultScenePath().string().c_str()) : files.first();
+  const QString path = QFile::decodeName((files.isEmpty() ? vaw::defaultScenePath() : vaw::resolveScenePath(QFile::encodeName(files.first()).toStdString())).c_str());
 
   QSize size(1280, 800);
   if (parser.isSet(sizeOption)) {

@@ -1,8 +1,13 @@
 // vaw-sim: the headless runner. `inspect` prints what vaw makes of a scene: per part its mass
-// properties and lifting category, with the reason.
+// properties and lifting category, with the reason, and how each constraint meets the base.
+#include <unistd.h>
+
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
+#include <new>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +15,7 @@
 #include "run_command.hpp"
 #include "trials_command.hpp"
 #include "work_precision_command.hpp"
+#include "vaw/collision/collision_world.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
@@ -25,7 +31,8 @@ constexpr const char* kUsage =
     "       vaw-sim trials simulate|analyze|demand ...   (vaw-sim trials --help)\n"
     "\n"
     "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
-    "             centre of mass, principal moments, category and why.\n"
+    "             centre of mass, principal moments, category and why; per constraint, how it meets\n"
+    "             the base (a bore on a shaft: both radii and the clearance)\n"
     "  --json     print JSON instead of a table\n"
     "  --categories PRESET   lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)\n"
     "  work-precision  run every scenario (slide with stop, gear pendulum undamped and damped,\n"
@@ -41,7 +48,7 @@ constexpr const char* kUsage =
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-nlohmann::json toJson(const vaw::Assembly& a) {
+nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
   nlohmann::json parts = nlohmann::json::array();
   for (const auto& p : a.parts) {
     nlohmann::json j{{"name", p.name},
@@ -62,6 +69,18 @@ nlohmann::json toJson(const vaw::Assembly& a) {
                            {"inertia_rel", p.disagreement->inertiaRel}};
     parts.push_back(std::move(j));
   }
+  nlohmann::json fitList = nlohmann::json::array();
+  for (const auto& f : fits) {
+    const vaw::Constraint& c = a.constraints[f.constraint];
+    nlohmann::json j{{"constraint", c.name},
+                     {"type", std::string(vaw::name(c.type))},
+                     {"part", a.parts[c.part].name},
+                     {"ok", f.support.problem.empty()},
+                     {"fit", f.text}};
+    if (f.support.kind == vaw::collision::Support::Kind::Axis && f.support.problem.empty())
+      j["clearance_m"] = f.support.clearance;
+    fitList.push_back(std::move(j));
+  }
   nlohmann::json warnings = nlohmann::json::array();
   for (const auto& w : a.warnings) warnings.push_back(w.message());
   return {{"name", a.name},
@@ -71,11 +90,12 @@ nlohmann::json toJson(const vaw::Assembly& a) {
           {"parts", parts},
           {"environment", a.environment.size()},
           {"constraints", a.constraints.size()},
+          {"fits", fitList},
           {"triangles", a.totalTriangles()},
           {"warnings", warnings}};
 }
 
-void printTable(const vaw::Assembly& a) {
+void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
   std::printf("%s (%s): %zu parts, %zu environment objects, %zu constraints, %zu triangles; categories: %s\n",
               a.name.c_str(), a.source.string().c_str(), a.parts.size(), a.environment.size(), a.constraints.size(),
               a.totalTriangles(), a.categorySettings.preset.c_str());
@@ -93,6 +113,10 @@ void printTable(const vaw::Assembly& a) {
     if (p.disagreement)
       std::printf("%-18s property file vs mesh: mass %.3f %%, centre of mass %.3f mm, inertia %.3f %%\n", "",
                   100.0 * p.disagreement->massRel, 1e3 * p.disagreement->comDistance, 100.0 * p.disagreement->inertiaRel);
+  }
+  for (const auto& f : fits) {
+    const vaw::Constraint& c = a.constraints[f.constraint];
+    std::printf("constraint %s (%s): %s\n", c.name.c_str(), a.parts[c.part].name.c_str(), f.text.c_str());
   }
   for (const auto& w : a.warnings) std::printf("warning: %s\n", w.message().c_str());
 }
@@ -124,20 +148,34 @@ int inspect(const std::vector<std::string>& args) {
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
     for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());
+  // A large file takes seconds: say how far it is, on a terminal, at most every whole percent.
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  int shown = -1;
+  const vaw::ProgressFn progress = [tty, &shown](double fraction, const std::string& stage) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (tty && percent != shown) {
+      shown = percent;
+      std::fprintf(stderr, "\rvaw-sim: loading %3d %% %-40.40s", percent, stage.c_str());
+    }
+    return true;
+  };
   try {
-    const vaw::Assembly a = vaw::loadAny(file, importers, options);
-    if (json) std::cout << toJson(a).dump(2) << '\n';
-    else printTable(a);
+    const vaw::Assembly a = vaw::loadAny(vaw::resolveScenePath(file), importers, options, progress);
+    if (tty) std::fprintf(stderr, "\r%70s\r", "");
+    // How each constraint meets the base (the fit's clearance, or why it does not fit): surface patches
+    // of the constrained parts only.
+    const auto fits = vaw::collision::constraintFits(a);
+    if (json) std::cout << toJson(a, fits).dump(2) << '\n';
+    else printTable(a, fits);
     return 0;
   } catch (const vaw::InputError& e) {
+    if (tty) std::fprintf(stderr, "\n");
     std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
     return 1;
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
+int dispatch(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h") {
     std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
@@ -169,4 +207,23 @@ int main(int argc, char** argv) {
   if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
   std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
   return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // A file-size limit then fails the write (EFBIG), which is reported, instead of killing the process
+  // with a half-written file.
+  std::signal(SIGXFSZ, SIG_IGN);
+  // Every failure ends as a named error and exit status 1; nothing aborts.
+  try {
+    return dispatch(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "vaw-sim: error: out of memory\n");
+  } catch (const std::filesystem::filesystem_error& e) {
+    std::fprintf(stderr, "vaw-sim: error: file system: %s\n", e.what());
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
+  }
+  return 1;
 }

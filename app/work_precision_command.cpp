@@ -2,9 +2,18 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
-#include <fstream>
+#include <sstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "vaw/atomic_file.hpp"
+#include "vaw/error.hpp"
 
 #include "vaw/dynamics/work_precision.hpp"
 #ifdef VAW_HAVE_PEERS
@@ -19,7 +28,7 @@ namespace vaw::app {
 namespace {
 
 void writeCsv(const std::filesystem::path& file, const std::vector<dyn::Record>& records) {
-  std::ofstream out(file);
+  std::ostringstream out;
   out << "scenario,method,step_rate_hz,cpu_s_per_sim_s,error,error_unit,stable,note\n";
   out.precision(9);
   for (const auto& r : records) {
@@ -29,6 +38,14 @@ void writeCsv(const std::filesystem::path& file, const std::vector<dyn::Record>&
     out << r.scenario << ',' << r.method << ',' << r.stepRate << ',' << r.cpuPerSimSecond << ',' << r.error << ','
         << r.errorUnit << ',' << (r.stable ? "yes" : "no") << ",\"" << note << "\"\n";
   }
+  writeFileAtomically(file, out.str());
+}
+
+// A positive count, strictly: "abc", "-5" and "3x" are refused, not read as 0 or 1.
+bool parseCount(const std::string& text, int& out) {
+  if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos) return false;
+  out = std::stoi(text);
+  return out >= 1 && out <= 1000;
 }
 
 #ifdef VAW_HAVE_PEERS
@@ -64,7 +81,12 @@ int workPrecision(const std::vector<std::string>& args, int argc, char** argv) {
   bool peers = true;
   for (std::size_t i = 0; i < args.size(); ++i) {
     if (args[i] == "--out" && i + 1 < args.size()) outDir = args[++i];
-    else if (args[i] == "--repeats" && i + 1 < args.size()) options.repeats = std::max(1, std::atoi(args[++i].c_str()));
+    else if (args[i] == "--repeats" && i + 1 < args.size()) {
+      if (!parseCount(args[++i], options.repeats)) {
+        std::fprintf(stderr, "vaw-sim work-precision: --repeats: expected a whole number from 1 to 1000, found \"%s\"\n", args[i].c_str());
+        return 2;
+      }
+    }
     else if (args[i] == "--no-peers") peers = false;
     else {
       std::fprintf(stderr, "vaw-sim work-precision: unknown argument %s\n", args[i].c_str());
@@ -77,6 +99,7 @@ int workPrecision(const std::vector<std::string>& args, int argc, char** argv) {
   }
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
+  if (!ec && !std::filesystem::is_directory(outDir, ec)) ec = std::make_error_code(std::errc::not_a_directory);
   if (ec) {
     std::fprintf(stderr, "vaw-sim work-precision: cannot create %s: %s\n", outDir.c_str(), ec.message().c_str());
     return 1;
@@ -96,7 +119,26 @@ int workPrecision(const std::vector<std::string>& args, int argc, char** argv) {
   writeCsv(csv, records);
   std::printf("wrote %s (%zu records)\n", csv.c_str(), records.size());
 #ifdef VAW_HAVE_CHARTS
-  for (const auto& file : ui::writeWorkPrecisionCharts(records, outDir, argc, argv)) std::printf("wrote %s\n", file.c_str());
+  // Drawn into a private directory, checked, then renamed over the old charts one by one, so that an
+  // interrupted run never leaves a truncated chart where a good one was.
+  const std::string staging = (outDir / ".charts.XXXXXX").string();
+  std::vector<char> name(staging.begin(), staging.end());
+  name.push_back('\0');
+  if (::mkdtemp(name.data()) == nullptr) throw OutputError("cannot create a directory in " + outDir.string() + ": " + std::strerror(errno));
+  const std::filesystem::path tmp(name.data());
+  struct Cleanup {
+    std::filesystem::path dir;
+    ~Cleanup() {
+      std::error_code ignored;
+      std::filesystem::remove_all(dir, ignored);
+    }
+  } cleanup{tmp};
+  for (const auto& drawn : ui::writeWorkPrecisionCharts(records, tmp, argc, argv)) {
+    if (std::filesystem::file_size(drawn, ec) == 0 || ec) throw OutputError("cannot write the chart " + drawn.filename().string());
+    const std::filesystem::path file = outDir / drawn.filename();
+    std::filesystem::rename(drawn, file);
+    std::printf("wrote %s\n", file.c_str());
+  }
 #else
   (void)argc;
   (void)argv;

@@ -17,6 +17,8 @@ packages=(
   libbenchmark-dev libgtest-dev
   # VR mode: the OpenXR loader (the plugin links it); its core validation layer checks the VR tests
   libopenxr-dev openxr-layer-corevalidation
+  # the fuzzers (clang's libFuzzer and sanitizer runtimes), and the format and lint configurations
+  clang libclang-rt-dev clang-format clang-tidy
   # optional peers for the work-precision chart
   libbullet-dev libode-dev
   # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe)

@@ -20,7 +20,9 @@ constexpr bool kDouble = sizeof(btScalar) == sizeof(double);
 btScalar bs(double x) { return static_cast<btScalar>(x); }
 btVector3 bv(double x, double y, double z) { return {bs(x), bs(y), bs(z)}; }
 
-// One world with Bullet's default configuration, torn down in the right order.
+// One world with Bullet's default configuration. Bodies and constraints are plain locals declared after
+// it, so they are destroyed first: a Leave guard declared after them takes them out of the world while
+// they still exist (found by AddressSanitizer: the world's destructor read bodies already gone).
 struct World {
   btDefaultCollisionConfiguration config;
   btCollisionDispatcher dispatcher{&config};
@@ -31,7 +33,9 @@ struct World {
   World() { world.setGravity(bv(0.0, 0.0, -kGravity)); }
   World(const World&) = delete;
   World& operator=(const World&) = delete;
-  ~World() {
+  ~World() = default;
+
+  void removeAll() {
     for (int i = world.getNumConstraints() - 1; i >= 0; --i) world.removeConstraint(world.getConstraint(i));
     for (int i = world.getNumCollisionObjects() - 1; i >= 0; --i) {
       btCollisionObject* o = world.getCollisionObjectArray()[i];
@@ -39,6 +43,13 @@ struct World {
       else world.removeCollisionObject(o);
     }
   }
+  struct Leave {
+    World& w;
+    explicit Leave(World& world) : w(world) {}
+    Leave(const Leave&) = delete;
+    Leave& operator=(const Leave&) = delete;
+    ~Leave() { w.removeAll(); }
+  };
 
   // One engine step of exactly dt: maxSubSteps = 0 makes Bullet take the given time step as is
   // (no fixed-step accumulator, no interpolation).
@@ -103,6 +114,7 @@ PeerResult slide(const vaw::dyn::SlideScenario& s, double stepRate, const vaw::d
   box.setActivationState(DISABLE_DEACTIVATION);
   w.world.addRigidBody(&incline);
   w.world.addRigidBody(&box);
+  const World::Leave leave{w};
 
   // Flat on the plane: body z along the normal, centre half the box height above the surface.
   const btTransform start(tilted, normal * bs(0.5 * s.size[2]));
@@ -157,6 +169,7 @@ PeerResult pendulum(const vaw::dyn::PendulumScenario& p, double stepRate, const 
   // The constructor takes the hinge's world frame from the body's current pose, so the pose comes first.
   btHingeConstraint hinge(disk, bv(0.0, 0.0, p.arm), axis);
   w.world.addConstraint(&hinge, true);
+  const World::Leave leave{w};
 
   const btScalar fr = bs(p.fr);
   auto run = [&](vaw::dyn::Samples& out) {

@@ -1,5 +1,5 @@
 #pragma once
-// Peer engines for the work-precision chart (PHYSICS.md section 4): the slide and pendulum scenarios
+// Peer engines for the work-precision chart (docs/work-precision.md): the slide and pendulum scenarios
 // run in general rigid-body engines (Bullet, ODE) from Debian's packages, so the chart shows what a
 // general engine gives for the same scene at the same cost. Only the engines found at configure time
 // are compiled in; availablePeers() lists them.

@@ -1,8 +1,15 @@
 #include "json_node.hpp"
 
 #include <cmath>
+#include <cstdint>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <string_view>
+#include <utility>
+
+#include "vaw/limits.hpp"
+#include "vaw/paths.hpp"
 
 namespace vaw::detail {
 
@@ -12,12 +19,46 @@ std::string describe(const Json& j) {
   return s;
 }
 
+std::string deepNesting(const std::string& text, int maxDepth) {
+  int depth = 0;
+  bool inString = false, escaped = false;
+  std::size_t line = 1, column = 0;
+  for (const char c : text) {
+    ++column;
+    if (c == '\n') {
+      ++line;
+      column = 0;
+    }
+    if (inString) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > maxDepth) return "line " + std::to_string(line) + ", column " + std::to_string(column);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return {};
+}
+
 Json readJsonFile(const std::filesystem::path& file) {
+  if (const std::string problem = fileProblem(file); !problem.empty())
+    fail(file.string(), "", "an existing, readable file", problem);
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (!ec && bytes > limits::kMaxJsonBytes)
+    fail(file.string(), "", "a file of at most 1 GiB", std::to_string(bytes) + " bytes");
   std::ifstream in(file, std::ios::binary);
-  if (!in) fail(file.string(), "", "an existing, readable file", std::filesystem::exists(file) ? "unreadable" : "no such file");
+  if (!in) fail(file.string(), "", "an existing, readable file", "unreadable");
   std::stringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();
+  if (const std::string where = deepNesting(text, limits::kMaxJsonDepth); !where.empty())
+    fail(file.string(), where, "arrays and objects nested at most " + std::to_string(limits::kMaxJsonDepth) + " deep",
+         "deeper nesting");
   try {
     return Json::parse(text);
   } catch (const Json::parse_error& e) {
@@ -75,6 +116,26 @@ void Node::allowOnly(std::initializer_list<const char*> allowed) const {
   }
 }
 
+void Node::requireFormat(const char* format) const {
+  requireObject();
+  static constexpr std::pair<std::string_view, std::string_view> kKinds[] = {{"vaw-scene", "a scene"},
+                                                                            {"vaw-properties", "a property file"},
+                                                                            {"vaw-inputs", "an input script"},
+                                                                            {"vaw-session", "a session"}};
+  std::string_view wanted = "a vaw file";
+  for (const auto& [f, kind] : kKinds)
+    if (f == format) wanted = kind;
+  const std::string expected = "\"" + std::string(format) + "\" (" + std::string(wanted) + ")";
+  const Node f = get("format");
+  if (!f.json().is_string()) f.fail(expected);
+  const std::string found = f.json().get<std::string>();
+  if (found == format) return;
+  for (const auto& [other, kind] : kKinds)
+    if (other == found)
+      f.failWith(expected, "\"" + found + "\" (this is a " + found + " file, not " + std::string(wanted) + ")");
+  f.fail(expected);
+}
+
 void Node::requireObject() const {
   if (!j_->is_object()) fail("an object");
 }
@@ -106,9 +167,39 @@ double Node::nonNegative() const {
   return v;
 }
 
-int Node::integer() const {
-  if (!j_->is_number_integer()) fail("an integer");
-  return j_->get<int>();
+int Node::integer() const { return integer(std::numeric_limits<int>::min(), std::numeric_limits<int>::max()); }
+
+int Node::integer(int lo, int hi) const {
+  const std::string range = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+  if (!j_->is_number_integer()) fail(range);
+  // Read at full width first: a narrowing conversion would wrap 2^32 + 3 to 3.
+  if (j_->is_number_unsigned()) {
+    if (j_->get<std::uint64_t>() > static_cast<std::uint64_t>(hi)) fail(range);
+  } else {
+    const auto v = j_->get<std::int64_t>();
+    if (v < lo || v > hi) fail(range);
+  }
+  return static_cast<int>(j_->get<std::int64_t>());
+}
+
+double Node::number(double lo, double hi, const char* unit) const {
+  const double v = number();
+  if (v < lo || v > hi) {
+    std::ostringstream range;
+    range << "a number from " << lo << " to " << hi << (*unit ? " " : "") << unit;
+    fail(range.str());
+  }
+  return v;
+}
+
+Eigen::Vector3d Node::position(double L) const {
+  const Eigen::Vector3d p = vec3() * L;
+  if (!(p.cwiseAbs().maxCoeff() <= limits::kMaxCoordinate)) {
+    std::ostringstream m;
+    m << "coordinates within " << limits::kMaxCoordinate << " m of the origin (the world bound)";
+    fail(m.str());
+  }
+  return p;
 }
 
 Eigen::Vector3d Node::vec3() const {

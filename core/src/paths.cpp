@@ -18,4 +18,43 @@ std::filesystem::path resourceDir() {
 
 std::filesystem::path defaultScenePath() { return resourceDir() / "scenes" / "sleeve-on-shaft.vaw.json"; }
 
+namespace {
+bool somethingAt(const std::filesystem::path& p) {
+  std::error_code ec;
+  const auto st = std::filesystem::symlink_status(p, ec);
+  return !ec && st.type() != std::filesystem::file_type::not_found;
+}
+std::filesystem::path bundled(const std::filesystem::path& given) { return resourceDir() / "scenes" / given; }
+}  // namespace
+
+std::filesystem::path resolveScenePath(const std::filesystem::path& given) {
+  if (given.empty() || somethingAt(given) || !given.is_relative()) return given;
+  const std::filesystem::path candidate = bundled(given);
+  return somethingAt(candidate) ? candidate : given;
+}
+
+std::string scenePlaces(const std::filesystem::path& given) {
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::absolute(given, ec);
+  std::string out = "looked at " + (ec ? given : absolute).string();
+  if (given.is_relative()) out += " and " + bundled(given).string();
+  return out;
+}
+
+std::string fileProblem(const std::filesystem::path& file) {
+  std::error_code ec;
+  const auto st = std::filesystem::status(file, ec);
+  if (ec) {
+    if (ec == std::errc::no_such_file_or_directory) return "no such file";
+    if (ec == std::errc::too_many_symbolic_link_levels) return "a loop of symbolic links";
+    return ec.message();
+  }
+  switch (st.type()) {
+    case std::filesystem::file_type::regular: return {};
+    case std::filesystem::file_type::not_found: return "no such file";
+    case std::filesystem::file_type::directory: return "a directory";
+    default: return "not a regular file";
+  }
+}
+
 }  // namespace vaw

@@ -1,8 +1,10 @@
 #include "vaw/property_file.hpp"
 
 #include <cmath>
+#include <sstream>
 
 #include "json_node.hpp"
+#include "vaw/limits.hpp"
 #include "vaw/units.hpp"
 
 namespace vaw {
@@ -13,11 +15,9 @@ PropertyFile readPropertyFile(const std::filesystem::path& path) {
   const std::string file = path.string();
   const detail::Json j = detail::readJsonFile(path);
   const Node root(j, "", file);
-  root.requireObject();
+  root.requireFormat("vaw-properties");
   root.allowOnly({"format", "version", "part", "units", "mass", "center_of_mass", "inertia_cm", "density", "volume",
                   "surface_area", "surface_finish", "tolerance"});
-  const Node format = root.get("format");
-  if (format.string() != "vaw-properties") format.fail("\"vaw-properties\"");
   const Node version = root.get("version");
   if (version.integer() != 1) version.fail("version 1");
 
@@ -32,8 +32,14 @@ PropertyFile readPropertyFile(const std::filesystem::path& path) {
   const double L = toMetres(*length), M = toKilograms(*massUnit);
 
   PropertyFile pf;
-  pf.mass.mass = root.get("mass").positive() * M;
-  pf.mass.centerOfMass = root.get("center_of_mass").vec3() * L;
+  const Node massNode = root.get("mass");
+  pf.mass.mass = massNode.positive() * M;
+  if (!(pf.mass.mass >= limits::kMinMass && pf.mass.mass <= limits::kMaxMass)) {
+    std::ostringstream range;
+    range << "a mass from " << limits::kMinMass << " to " << limits::kMaxMass << " kg";
+    massNode.failWith(range.str(), std::to_string(pf.mass.mass) + " kg");
+  }
+  pf.mass.centerOfMass = root.get("center_of_mass").position(L);
 
   const Node inertia = root.get("inertia_cm");
   if (!inertia.json().is_array() || inertia.size() != 3) inertia.fail("a 3x3 array of numbers (rows)");
@@ -48,8 +54,12 @@ PropertyFile readPropertyFile(const std::filesystem::path& path) {
     std::optional<double> rho;
     if (d->json().is_number()) rho = d->positive();
     else if (d->json().is_string()) rho = parseDensity(d->string());
-    if (!rho || !(*rho > 0.0) || !std::isfinite(*rho))
-      d->fail("a positive density: a number in kg/m^3 or \"<value> kg/m^3|g/cm^3|lb/in^3\"");
+    if (!rho || !(*rho >= limits::kMinDensity && *rho <= limits::kMaxDensity)) {
+      std::ostringstream range;
+      range << "a density from " << limits::kMinDensity << " to " << limits::kMaxDensity
+            << " kg/m^3: a number in kg/m^3 or \"<value> kg/m^3|g/cm^3|lb/in^3\"";
+      d->fail(range.str());
+    }
     pf.density = rho;
     pf.mass.density = *rho;
   }

@@ -7,6 +7,9 @@
 #include <sstream>
 
 #include "json_node.hpp"
+#include "vaw/dynamics/hinge.hpp"
+#include "vaw/limits.hpp"
+#include "vaw/paths.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/property_file.hpp"
 
@@ -49,7 +52,7 @@ std::string toString(double v) {
 Eigen::Isometry3d readPose(const Node& n, double L) {
   n.allowOnly({"position", "rotation"});
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  if (auto p = n.opt("position")) pose.translation() = p->vec3() * L;
+  if (auto p = n.opt("position")) pose.translation() = p->position(L);
   if (auto r = n.opt("rotation")) pose.linear() = r->rotation();
   return pose;
 }
@@ -78,7 +81,9 @@ double readDensity(const Node& n) {
   else if (n.json().is_string()) rho = parseDensity(n.string());
   else n.fail("a density: a number in kg/m^3 or \"<value> kg/m^3|g/cm^3|lb/in^3\"");
   if (!rho) n.fail("a density with a known unit: kg/m^3, g/cm^3 or lb/in^3");
-  if (!(*rho > 0.0) || !std::isfinite(*rho)) n.failWith("a positive, finite density", toString(*rho) + " kg/m^3");
+  if (!(*rho >= limits::kMinDensity && *rho <= limits::kMaxDensity))
+    n.failWith("a density from " + toString(limits::kMinDensity) + " to " + toString(limits::kMaxDensity) + " kg/m^3",
+               toString(*rho) + " kg/m^3");
   return *rho;
 }
 
@@ -88,33 +93,35 @@ TriMesh readPrimitive(const Node& n, double L) {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   if (auto p = n.opt("pose")) pose = readPose(*p, L);
   auto segments = [&](const char* key, int def, int minimum) {
-    if (auto s = n.opt(key)) {
-      const int v = s->integer();
-      if (v < minimum || v > 4096) s->fail("an integer from " + std::to_string(minimum) + " to 4096");
-      return v;
-    }
+    if (auto s = n.opt(key)) return s->integer(minimum, limits::kMaxSegments);
     return def;
+  };
+  // A length in file units, within the world's size bounds once converted.
+  auto length = [L](const Node& v) {
+    const double x = v.positive() * L;
+    if (!(x >= limits::kMinSize && x <= limits::kMaxSize))
+      v.failWith("a length from " + toString(limits::kMinSize) + " m to " + toString(limits::kMaxSize) + " m", toString(x) + " m");
+    return x;
   };
   TriMesh m;
   if (type == "box") {
     n.allowOnly({"type", "size", "pose"});
     const Node s = n.get("size");
-    const Eigen::Vector3d size = s.vec3() * L;
-    if ((size.array() <= 0.0).any()) s.fail("three positive lengths");
-    m = primitives::box(size);
+    if (!s.json().is_array() || s.size() != 3) s.fail("three positive lengths");
+    m = primitives::box({length(s.at(0)), length(s.at(1)), length(s.at(2))});
   } else if (type == "cylinder") {
     n.allowOnly({"type", "radius", "height", "segments", "pose"});
-    m = primitives::cylinder(n.get("radius").positive() * L, n.get("height").positive() * L, segments("segments", 64, 3));
+    m = primitives::cylinder(length(n.get("radius")), length(n.get("height")), segments("segments", 64, 3));
   } else if (type == "tube") {
     n.allowOnly({"type", "outer_radius", "inner_radius", "height", "segments", "pose"});
-    const double ro = n.get("outer_radius").positive() * L;
+    const double ro = length(n.get("outer_radius"));
     const Node inner = n.get("inner_radius");
-    const double ri = inner.positive() * L;
+    const double ri = length(inner);
     if (ri >= ro) inner.fail("an inner radius smaller than outer_radius");
-    m = primitives::tube(ro, ri, n.get("height").positive() * L, segments("segments", 64, 3));
+    m = primitives::tube(ro, ri, length(n.get("height")), segments("segments", 64, 3));
   } else if (type == "sphere") {
     n.allowOnly({"type", "radius", "segments", "rings", "pose"});
-    m = primitives::sphere(n.get("radius").positive() * L, segments("segments", 64, 3), segments("rings", 32, 2));
+    m = primitives::sphere(length(n.get("radius")), segments("segments", 64, 3), segments("rings", 32, 2));
   } else {
     n.get("type").fail("a primitive type: \"box\", \"cylinder\", \"tube\" or \"sphere\"");
   }
@@ -123,12 +130,25 @@ TriMesh readPrimitive(const Node& n, double L) {
 }
 
 // Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid.
-void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings) {
+void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings, const ProgressFn& progressFn) {
+  const Progress progress(progressFn);
   if (mesh.triangles.empty()) vaw::fail(file, "mesh", "a mesh with triangles", "no triangles");
+  if (mesh.triangles.size() > limits::kMaxTriangles)
+    vaw::fail(file, "triangles", "at most " + std::to_string(limits::kMaxTriangles) + " triangles in one mesh",
+              std::to_string(mesh.triangles.size()));
+  progress.report(0.0, "welding vertices");
   // Before welding only what would poison the weld matters; the edge checks run once, after it.
   const auto nonFinite = std::count_if(mesh.vertices.begin(), mesh.vertices.end(), [](const Eigen::Vector3d& v) { return !v.allFinite(); });
   if (nonFinite > 0)
     vaw::fail(file, "vertices", "finite vertex coordinates", std::to_string(nonFinite) + " NaN or infinite vertices");
+  const auto far = std::find_if(mesh.vertices.begin(), mesh.vertices.end(),
+                                [](const Eigen::Vector3d& v) { return v.cwiseAbs().maxCoeff() > limits::kMaxCoordinate; });
+  if (far != mesh.vertices.end()) {
+    std::ostringstream where;
+    where << "a vertex at (" << far->x() << ", " << far->y() << ", " << far->z() << ") m";
+    vaw::fail(file, "vertices", "coordinates within " + toString(limits::kMaxCoordinate) + " m of the origin (the world bound)",
+              where.str());
+  }
   const auto n = static_cast<int>(mesh.vertices.size());
   const auto badIndices = std::count_if(mesh.triangles.begin(), mesh.triangles.end(),
                                         [n](const Eigen::Vector3i& t) { return t.minCoeff() < 0 || t.maxCoeff() >= n; });
@@ -137,6 +157,7 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
   const double diag = mesh.bounds().diagonal().norm();
   // STL stores every corner separately; welding them is routine, not worth a warning.
   weldVertices(mesh, 1e-9 * diag);
+  progress.report(0.5, "checking edges");
   const std::size_t degenerate = removeDegenerateTriangles(mesh, 1e-14 * diag * diag);
   if (degenerate > 0)
     warnings.push_back({Diagnostic::Severity::Warning, file, "triangles", "triangles with non-zero area",
@@ -145,10 +166,21 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
   if (!c.closed()) vaw::fail(file, "mesh", "a closed mesh (every edge shared by exactly two triangles)", c.summary());
   if (!c.consistentlyOriented())
     vaw::fail(file, "mesh", "consistently oriented triangles (every edge traversed once each way)", c.summary());
+  progress.report(0.9, "volume");
   const double volume = integrateVolume(mesh).volume;
   if (!(volume > 0.0))
     vaw::fail(file, "mesh", "outward-facing triangles enclosing a positive volume",
               volume < 0.0 ? "volume " + toString(volume) + " m^3: the normals point inward (inverted)" : "zero volume");
+}
+
+// Before a mesh file is read whole into memory.
+void checkMeshFileSize(const std::filesystem::path& file, const std::optional<Node>& field) {
+  std::error_code ec;
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (ec || bytes <= limits::kMaxMeshFileBytes) return;
+  const std::string expected = "a mesh file of at most 2 GiB", found = std::to_string(bytes) + " bytes";
+  if (field) field->failWith(expected, "\"" + file.string() + "\": " + found);
+  vaw::fail(file.string(), "", expected, found);
 }
 
 struct Imported {
@@ -163,11 +195,12 @@ class MeshCache {
   MeshCache(const ImporterRegistry& importers, Diagnostics& warnings) : importers_(importers), warnings_(warnings) {}
 
   const Imported& get(const std::filesystem::path& file, double L, const Node& field, const ProgressFn& progress) {
-    const std::string key = std::filesystem::weakly_canonical(file).string() + "|" + toString(L);
-    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
+    if (const std::string problem = fileProblem(file); !problem.empty())
+      field.failWith("an existing, readable mesh file", "\"" + file.string() + "\": " + problem);
     std::error_code ec;
-    if (!std::filesystem::exists(file, ec))
-      field.failWith("an existing mesh file", "\"" + file.string() + "\" does not exist");
+    const std::filesystem::path canonical = std::filesystem::weakly_canonical(file, ec);
+    const std::string key = (ec ? file.lexically_normal() : canonical).string() + "|" + toString(L);
+    if (auto it = cache_.find(key); it != cache_.end()) return it->second;
     const MeshImporter* importer = importers_.find(file);
     if (!importer) {
       std::string exts;
@@ -175,13 +208,15 @@ class MeshCache {
       field.failWith("a mesh format an importer plugin reads (" + (exts.empty() ? std::string("no importer plugins loaded") : exts) + ")",
                      "\"" + file.extension().string() + "\"");
     }
-    ImportedMesh im = importer->read(file, progress);
+    checkMeshFileSize(file, field);
+    const Progress scaled(progress);
+    ImportedMesh im = importer->read(file, scaled.sub(0.0, 0.6));
     Imported out;
     out.root = std::move(im.root);
     out.warnings = std::move(im.warnings);
     TriMesh mesh = out.root.merged();
     mesh.scale(L);
-    validateSolid(mesh, file.string(), warnings_);
+    validateSolid(mesh, file.string(), warnings_, scaled.sub(0.6, 1.0));
     out.mesh = std::make_shared<const TriMesh>(std::move(mesh));
     return cache_.emplace(key, std::move(out)).first->second;
   }
@@ -223,9 +258,7 @@ class SceneReader {
     progress_.report(0.0, "reading " + path_.filename().string());
     json_ = detail::readJsonFile(path_);
     const Node root(json_, "", file_);
-    root.requireObject();
-    const Node format = root.get("format");
-    if (format.string() != "vaw-scene") format.fail("\"vaw-scene\"");
+    root.requireFormat("vaw-scene");
     const Node version = root.get("version");
     const int v = version.integer();
     if (v < 1 || v > kSceneFormatVersion)
@@ -236,6 +269,7 @@ class SceneReader {
     else
       root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment",
                       "constraints"});
+    if (auto d = root.opt("description")) (void)d->string();
 
     assembly_.name = root.get("name").string();
     assembly_.source = path_;
@@ -249,7 +283,7 @@ class SceneReader {
     const Node parts = root.get("parts");
     parts.requireArray();
     if (parts.size() == 0) parts.fail("at least one part");
-    collectParts(parts, Eigen::Isometry3d::Identity(), assembly_.tree);
+    collectParts(parts, Eigen::Isometry3d::Identity(), assembly_.tree, 0);
     for (std::size_t i = 0; i < specs_.size(); ++i) {
       progress_.report(0.05 + 0.85 * static_cast<double>(i) / static_cast<double>(specs_.size()),
                        "part " + std::to_string(i + 1) + " of " + std::to_string(specs_.size()));
@@ -306,19 +340,27 @@ class SceneReader {
       if (auto d = m.opt("density")) mat.density = readDensity(*d);
       if (auto f = m.opt("friction")) {
         f->allowOnly({"static", "kinetic", "rotational"});
-        mat.staticFriction = f->get("static").nonNegative();
+        const Node st = f->get("static");
+        mat.staticFriction = st.number(0.0, limits::kMaxFriction, "");
         const Node kin = f->get("kinetic");
-        mat.kineticFriction = kin.nonNegative();
+        mat.kineticFriction = kin.number(0.0, limits::kMaxFriction, "");
         if (mat.kineticFriction > mat.staticFriction)
           kin.fail("a kinetic coefficient no larger than the static one (" + toString(mat.staticFriction) + ")");
-        if (auto r = f->opt("rotational")) mat.rotationalFriction = r->nonNegative();
+        if (auto r = f->opt("rotational")) mat.rotationalFriction = r->number(0.0, limits::kMaxRotationalFriction, "N m s");
+        if (mat.staticFriction > limits::kUnusualFriction)
+          assembly_.warnings.push_back({Diagnostic::Severity::Warning, file_, st.path(),
+                                        "a friction coefficient up to " + toString(limits::kUnusualFriction) +
+                                            " (rubber on dry concrete is about 1)",
+                                        toString(mat.staticFriction) + ", used as given"});
       }
       if (auto c = m.opt("color")) mat.color = readColor(*c);
       assembly_.materials.emplace(key, mat);
     }
   }
 
-  void collectParts(const Node& list, const Eigen::Isometry3d& parentPose, TreeNode& parent) {
+  void collectParts(const Node& list, const Eigen::Isometry3d& parentPose, TreeNode& parent, int depth) {
+    if (depth > limits::kMaxGroupDepth)
+      list.failWith("groups nested at most " + std::to_string(limits::kMaxGroupDepth) + " deep", "deeper nesting");
     for (std::size_t i = 0; i < list.size(); ++i) {
       const Node e = list.at(i);
       e.requireObject();
@@ -335,7 +377,7 @@ class SceneReader {
         parent.children.push_back(std::move(group));
         const Node children = e.get("children");
         children.requireArray();
-        collectParts(children, pose, parent.children.back());
+        collectParts(children, pose, parent.children.back(), depth + 1);
       } else {
         if (!partNames_.insert(name).second) nameNode.fail("a part name not used before in this scene");
         TreeNode leaf;
@@ -407,17 +449,25 @@ class SceneReader {
     part.mesh = shape.mesh;
     part.shapeSource = shape.source;
     part.pose = spec.parentPose;
-    if (auto p = e.opt("pose")) part.pose = spec.parentPose * readPose(*p, units_.L);
-    if (auto p = e.opt("final_pose")) part.finalPose = spec.parentPose * readPose(*p, units_.L);
+    // Each pose is within the world bound; so must be the pose its groups' poses compose to.
+    const auto composed = [&](const char* key) {
+      const Node p = e.get(key);
+      const Eigen::Isometry3d pose = spec.parentPose * readPose(p, units_.L);
+      if (!(pose.translation().cwiseAbs().maxCoeff() <= limits::kMaxCoordinate))
+        p.failWith("a pose within " + toString(limits::kMaxCoordinate) + " m of the origin with its groups' poses",
+                   "a position " + toString(pose.translation().cwiseAbs().maxCoeff()) + " m out");
+      return pose;
+    };
+    if (e.has("pose")) part.pose = composed("pose");
+    if (e.has("final_pose")) part.finalPose = composed("final_pose");
 
     std::optional<double> density = mat->second.density;
     if (auto d = e.opt("density")) density = readDensity(*d);
     if (density) part.meshMass = massPropertiesFromMesh(*part.mesh, *density);
     if (auto pf = e.opt("properties")) {
       part.propertyFile = dir_ / pf->string();
-      std::error_code ec;
-      if (!std::filesystem::exists(part.propertyFile, ec))
-        pf->failWith("an existing property file", "\"" + part.propertyFile.string() + "\" does not exist");
+      if (const std::string problem = fileProblem(part.propertyFile); !problem.empty())
+        pf->failWith("an existing, readable property file", "\"" + part.propertyFile.string() + "\": " + problem);
       part.fileMass = readPropertyFile(part.propertyFile).mass;
     }
     if (part.fileMass) {
@@ -481,11 +531,11 @@ class SceneReader {
 
   Plane readPlane(const Node& n) {
     n.allowOnly({"point", "normal"});
-    return {n.get("point").vec3() * units_.L, n.get("normal").direction()};
+    return {n.get("point").position(units_.L), n.get("normal").direction()};
   }
   Axis readAxis(const Node& n) {
     n.allowOnly({"point", "direction"});
-    return {n.get("point").vec3() * units_.L, n.get("direction").direction()};
+    return {n.get("point").position(units_.L), n.get("direction").direction()};
   }
 
   void readConstraints(const Node& list) {
@@ -501,7 +551,10 @@ class SceneReader {
         con.type = type == "mate" ? Constraint::Type::Mate : Constraint::Type::Align;
         con.partPlane = readPlane(c.get("part_plane"));
         con.basePlane = readPlane(c.get("base_plane"));
-        if (auto o = c.opt("offset")) con.offset = o->number() * units_.L;
+        if (auto o = c.opt("offset")) {
+          con.offset = o->number() * units_.L;
+          if (!(std::abs(con.offset) <= limits::kMaxCoordinate)) o->fail("an offset within the world bound of 1000 m");
+        }
       } else if (type == "insert") {
         c.allowOnly({"type", "name", "part", "part_axis", "base_axis"});
         con.type = Constraint::Type::Insert;
@@ -525,12 +578,12 @@ class SceneReader {
   FrictionValues readFriction(const Node& f) {
     f.requireObject();
     f.allowOnly({"static", "kinetic", "rotational"});
-    FrictionValues v{f.get("static").nonNegative(), 0.0, 0.0};
+    FrictionValues v{f.get("static").number(0.0, limits::kMaxFriction, ""), 0.0, 0.0};
     const Node kin = f.get("kinetic");
-    v.kineticFriction = kin.nonNegative();
+    v.kineticFriction = kin.number(0.0, limits::kMaxFriction, "");
     if (v.kineticFriction > v.staticFriction)
       kin.fail("a kinetic coefficient no larger than the static one (" + toString(v.staticFriction) + ")");
-    if (auto r = f.opt("rotational")) v.rotationalFriction = r->nonNegative();
+    if (auto r = f.opt("rotational")) v.rotationalFriction = r->number(0.0, limits::kMaxRotationalFriction, "N m s");
     return v;
   }
 
@@ -539,27 +592,19 @@ class SceneReader {
     n.requireObject();
     n.allowOnly({"rate", "gravity_scale", "rotation_method", "friction"});
     SceneSettings& s = assembly_.settings;
-    if (auto r = n.opt("rate")) {
-      const double rate = r->positive();
-      if (rate < 1.0 || rate > 10000.0) r->fail("a step rate from 1 to 10000 Hz");
-      s.rate = rate;
-    }
+    if (auto r = n.opt("rate")) s.rate = r->number(limits::kMinRate, limits::kMaxRate, "Hz");
     if (auto g = n.opt("gravity_scale")) {
       g->requireObject();
       g->allowOnly({"free_flight", "slide", "rotation"});
-      const auto scale = [](const Node& x) {
-        const double v = x.nonNegative();
-        if (v > 10.0) x.fail("a gravity scale from 0 to 10");
-        return v;
-      };
+      const auto scale = [](const Node& x) { return x.number(0.0, limits::kMaxGravityScale, ""); };
       if (auto x = g->opt("free_flight")) s.freeFlightScale = scale(*x);
       if (auto x = g->opt("slide")) s.slideScale = scale(*x);
       if (auto x = g->opt("rotation")) s.rotationScale = scale(*x);
     }
     if (auto m = n.opt("rotation_method")) {
       const std::string method = m->string();
-      if (method != "paper-explicit" && method != "semi-implicit-euler" && method != "velocity-verlet" && method != "rk4")
-        m->fail("a method rotation can use: paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
+      if (!dyn::parseMethod(method, dyn::Hinge::kMethods))
+        m->fail("a method a rotation about an axis supports: " + dyn::describe(dyn::Hinge::kMethods));
       s.rotationMethod = method;
     }
     if (auto f = n.opt("friction")) {
@@ -675,11 +720,12 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
   a.source = file;
   a.name = file.filename().string();
   a.categorySettings = options.categories;
-  std::error_code ec;
-  if (!std::filesystem::exists(file, ec)) fail(file.string(), "", "an existing mesh file", "no such file");
+  if (const std::string problem = fileProblem(file); !problem.empty())
+    fail(file.string(), "", "an existing, readable file", problem);
   const MeshImporter* importer = importers.find(file);
   if (!importer) fail(file.string(), "", "a mesh format an importer plugin reads", "\"" + file.extension().string() + "\"");
-  ImportedMesh im = importer->read(file, progress.sub(0.0, 0.7));
+  checkMeshFileSize(file, std::nullopt);
+  ImportedMesh im = importer->read(file, progress.sub(0.0, 0.6));
   for (const auto& w : im.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
 
   // glTF is metres by its specification; the other formats carry no unit.
@@ -705,11 +751,13 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
   a.tree.name = a.name;
   const std::string fileStr = file.string();
   for (std::size_t i = 0; i < roots.size(); ++i) {
-    progress.report(0.7 + 0.3 * static_cast<double>(i) / static_cast<double>(roots.size()), "part " + std::to_string(i + 1));
+    const double from = 0.6 + 0.4 * static_cast<double>(i) / static_cast<double>(roots.size());
+    const double to = 0.6 + 0.4 * static_cast<double>(i + 1) / static_cast<double>(roots.size());
+    progress.report(from, "part " + std::to_string(i + 1));
     const ImportedNode& n = *roots[i];
     TriMesh mesh = n.merged();
     mesh.scale(L);
-    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), a.warnings);
+    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), a.warnings, progress.sub(from, to));
     Part p;
     p.id = i;
     p.name = n.name.empty() || roots.size() == 1 ? file.stem().string() : n.name;
@@ -734,6 +782,8 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
 
 Assembly loadAny(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
                  const ProgressFn& progress) {
+  if (const std::string problem = fileProblem(file); !problem.empty())
+    fail(file.string(), "", "an existing, readable file", problem + " (" + scenePlaces(file) + ")");
   std::string ext = file.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (ext == ".json" || ext == ".vaw") return loadScene(file, importers, options, progress);

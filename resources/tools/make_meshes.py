@@ -712,7 +712,7 @@ def make_block():
     return box_mesh("block", *BLOCK_PART)
 
 
-# Paper-like gear (PHYSICS.md: r = 0.05 m, m ~ 0.3 kg, centre of mass 0.02 m off the axis).
+# Paper-like gear (docs/physics.md: r = 0.05 m, m ~ 0.3 kg, centre of mass 0.02 m off the axis).
 GEAR_TEETH = 24
 GEAR_RA = 50.0          # tip radius
 GEAR_RF = 42.0          # root radius

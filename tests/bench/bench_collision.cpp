@@ -55,7 +55,7 @@ const Assembly& scene(int i) {
 }
 
 
-// The performance case of the issue: a 10,092-triangle block (60 x 40 x 30 mm, every face a 29 x 29 grid)
+// The large performance case: a 10,092-triangle block (60 x 40 x 30 mm, every face a 29 x 29 grid)
 // resting on a 248,832-triangle plate (300 x 200 x 40 mm, 144 x 144 grids, top at z = 20 mm) that carries
 // a wall (its face at x = 100 mm) as part of the same base mesh.
 struct Large {

@@ -2,6 +2,9 @@
 //   build/bin/vaw_bench_load [--benchmark_repetitions=5]
 #include <benchmark/benchmark.h>
 
+#include <array>
+#include <cstdint>
+#include <fstream>
 #include <map>
 
 #include "vaw/mass_properties.hpp"
@@ -85,6 +88,31 @@ void BM_MassPropertiesCylinder(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(m.triangleCount());
 }
 BENCHMARK(BM_MassPropertiesCylinder)->RangeMultiplier(10)->Range(25, 25000);
+
+// A valid 5-million-triangle mesh opened on its own, as `vaw-sim inspect FILE.stl` does: a closed sphere
+// (2500 segments, 1001 rings) written as binary STL, i.e. 15 million corners to weld.
+void BM_LoadHugeMesh(benchmark::State& state) {
+  const std::filesystem::path file = std::filesystem::temp_directory_path() / "vaw-bench-5m-triangles.stl";
+  {
+    const vaw::TriMesh m = vaw::primitives::sphere(50.0, 2500, 1001);
+    std::ofstream out(file, std::ios::binary);
+    const std::array<char, 80> header{};
+    out.write(header.data(), header.size());
+    const auto count = static_cast<std::uint32_t>(m.triangles.size());
+    out.write(reinterpret_cast<const char*>(&count), 4);
+    for (const auto& t : m.triangles) {
+      std::array<float, 12> record{};  // normal (left zero), three corners
+      for (int k = 0; k < 3; ++k)
+        for (int a = 0; a < 3; ++a) record[static_cast<std::size_t>(3 + 3 * k + a)] = static_cast<float>(m.vertices[static_cast<std::size_t>(t[k])][a]);
+      out.write(reinterpret_cast<const char*>(record.data()), sizeof record);
+      out.write("\0\0", 2);
+    }
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(vaw::loadMeshFile(file, importers()));
+  std::filesystem::remove(file);
+  state.SetLabel("5,000,000 triangles");
+}
+BENCHMARK(BM_LoadHugeMesh)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 

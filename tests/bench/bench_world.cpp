@@ -1,5 +1,5 @@
-// The simulation world's step cost against the number of parts that are not active (issue 5: "step cost
-// grows with active parts only"). One active part, a 50 mm steel cube in free flight (free-flight gravity
+// The simulation world's step cost against the number of parts that are not active (the goal: the step cost
+// grows with the active parts only). One active part, a 50 mm steel cube in free flight (free-flight gravity
 // scale 0, drifting at 0.1 mm/s, 0.3 m from the nearest other part) runs its time-of-impact query every step;
 // every other part is STATIC. Assemblies: a grid of N resting cubes on a table (N = 10, 100, 1000) and the
 // bundled large gearbox (large meshes) with the cube added.

@@ -6,7 +6,9 @@
 #include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
+#include "vaw/limits.hpp"
 #include "vaw/primitives.hpp"
+#include "vaw/property_file.hpp"
 #include "vaw/scene_loader.hpp"
 
 using namespace vaw;
@@ -109,11 +111,11 @@ std::vector<Case> cases() {
            }, "tools[0].travel[1]", "a height above the lowest"),
       edit("UnknownUnits", [](json& s) { s["units"] = "furlong"; }, "units", "a length unit"),
       edit("UnknownMassUnit", [](json& s) { s["units"] = {{"length", "mm"}, {"mass", "stone"}}; }, "units.mass", "a mass unit"),
-      edit("MissingMeshFile", [](json& s) { s["parts"][1]["mesh"] = "nowhere.stl"; }, "parts[1].mesh", "an existing mesh file"),
+      edit("MissingMeshFile", [](json& s) { s["parts"][1]["mesh"] = "nowhere.stl"; }, "parts[1].mesh", "an existing, readable mesh file"),
       edit("UnknownMeshFormat", [](json& s) { s["parts"][1]["mesh"] = "scene.vaw.json"; }, "parts[1].mesh",
            "a mesh format an importer plugin reads"),
-      edit("ZeroDensity", [](json& s) { s["materials"]["steel"]["density"] = 0; }, "materials.steel.density", "positive"),
-      edit("NegativeDensity", [](json& s) { s["parts"][1]["density"] = -7850; }, "parts[1].density", "positive"),
+      edit("ZeroDensity", [](json& s) { s["materials"]["steel"]["density"] = 0; }, "materials.steel.density", "a density from 0.1 to 100000 kg/m^3"),
+      edit("NegativeDensity", [](json& s) { s["parts"][1]["density"] = -7850; }, "parts[1].density", "a density from 0.1 to 100000 kg/m^3"),
       edit("UnknownDensityUnit", [](json& s) { s["parts"][1]["density"] = "7.8 kg/l"; }, "parts[1].density", "known unit"),
       {"InfiniteNumber",
        [](const std::filesystem::path& dir) {
@@ -144,8 +146,8 @@ std::vector<Case> cases() {
       edit("NonUnitQuaternion", [](json& s) { s["parts"][1]["pose"]["rotation"] = {{"quaternion", {2, 0, 0, 0}}}; },
            "parts[1].pose.rotation.quaternion", "unit quaternion"),
       edit("NoShape", [](json& s) { s["parts"][1].erase("mesh"); }, "parts[1]", "exactly one of"),
-      edit("NegativeBoxSize", [](json& s) { s["parts"][0]["primitive"]["size"] = {100, -1, 20}; }, "parts[0].primitive.size",
-           "three positive lengths"),
+      edit("NegativeBoxSize", [](json& s) { s["parts"][0]["primitive"]["size"] = {100, -1, 20}; }, "parts[0].primitive.size[1]",
+           "a positive number"),
       edit("NoDensityNoProperties", [](json& s) { s["materials"]["steel"].erase("density"); }, "parts[0]",
            "a density (on the part or its material)"),
       mesh("OpenMesh", [](TriMesh& m) { m.triangles.pop_back(); }, "mesh", "a closed mesh"),
@@ -166,6 +168,42 @@ std::vector<Case> cases() {
       properties("MassDensityVolumeDisagree", [](json& p) { p["density"] = 7850; p["volume"] = 1.0; }, "mass",
                  "density * volume"),
       properties("PropertyUnknownKey", [](json& p) { p["colour"] = "red"; }, "colour", "one of the keys"),
+      // Hostile values: each crashed, hung or was accepted silently before the world's bounds were checked.
+      edit("FarAwayPart", [](json& s) { s["parts"][1]["pose"]["position"][2] = 1e308; }, "parts[1].pose.position", "world bound"),
+      edit("FarAwayBase", [](json& s) { s["parts"][0]["pose"] = {{"position", {0, 1e300, 0}}}; }, "parts[0].pose.position",
+           "world bound"),
+      edit("FarAwayTable", [](json& s) { s["environment"][0]["pose"]["position"][2] = 1e308; }, "environment[0].pose.position",
+           "world bound"),
+      edit("FarAwayAxisPoint", [](json& s) { s["constraints"][0]["base_axis"]["point"] = {0, 0, 1e300}; },
+           "constraints[0].base_axis.point", "world bound"),
+      edit("HugeEnvironmentBox", [](json& s) { s["environment"][0]["primitive"]["size"][0] = 1e300; },
+           "environment[0].primitive.size[0]", "a length from 1e-06 m to 100 m"),
+      edit("HugeDensity", [](json& s) { s["materials"]["steel"]["density"] = 1e308; }, "materials.steel.density",
+           "a density from 0.1 to 100000 kg/m^3"),
+      edit("TinyDensity", [](json& s) { s["parts"][1]["density"] = 1e-300; }, "parts[1].density", "a density from 0.1"),
+      edit("HugeFriction", [](json& s) { s["materials"]["steel"]["friction"]["static"] = 1e300; },
+           "materials.steel.friction.static", "a number from 0 to 10"),
+      edit("HugeRotationalFriction", [](json& s) { s["materials"]["steel"]["friction"]["rotational"] = 1e300; },
+           "materials.steel.friction.rotational", "a number from 0 to 100 N m s"),
+      edit("DescriptionNotAString", [](json& s) { s["description"] = 42; }, "description", "a string"),
+      edit("SegmentsWrapAround", [](json& s) {
+             s["parts"][0]["primitive"] = {{"type", "cylinder"}, {"radius", 50}, {"height", 20}, {"segments", 4294967299ULL}};
+           }, "parts[0].primitive.segments", "an integer from 3 to 4096"),
+      edit("VersionWrapsAround", [](json& s) { s["version"] = 4294967297ULL; }, "version", "an integer from"),
+      edit("GroupsNestedTooDeep", [](json& s) {
+             json part = s["parts"][1];
+             for (int i = 0; i < 40; ++i) part = {{"name", "g" + std::to_string(i)}, {"children", json::array({part})}};
+             s["parts"][1] = part;
+           }, "children", "groups nested at most 32 deep"),
+      edit("GroupPosesAddUpOutOfBounds", [](json& s) {
+             s["parts"][1] = {{"name", "g"}, {"pose", {{"position", {900000, 0, 0}}}}, {"children", json::array({s["parts"][1]})}};
+             s["parts"][1]["children"][0]["pose"]["position"] = {900000, 0, 0};
+           }, "parts[1].children[0].pose", "with its groups' poses"),
+      mesh("FarAwayMeshVertex", [](TriMesh& m) { m.vertices[0].x() = 1e38; }, "vertices", "world bound"),
+      properties("HugeMass", [](json& p) { p["mass"] = 1e300; }, "mass", "a mass from 1e-06 to 1e+06 kg"),
+      properties("FarAwayCentreOfMass", [](json& p) { p["center_of_mass"] = {0, 0, 1e300}; }, "center_of_mass", "world bound"),
+      raw("NestedTooDeep", std::string(100000, '['), "line 1, column 101", "nested at most 100 deep"),
+      raw("PropertyFileAsScene", validProperties().dump(), "format", "\"vaw-scene\" (a scene)"),
   };
 }
 
@@ -195,6 +233,96 @@ INSTANTIATE_TEST_SUITE_P(Scenes, BadInput, ::testing::ValuesIn(cases()),
 
 TEST(BadInputSuite, HasAtLeastFifteenCases) { EXPECT_GE(cases().size(), 15u); }
 
+// What the message says, not only where: a file of another vaw kind is named as such.
+TEST(BadInputSuite, AnotherVawFileKindIsNamed) {
+  const auto dir = test::tempDir();
+  const auto props = test::writeFile(dir / "pin.props.json", validProperties().dump());
+  try {
+    (void)loadAny(props, test::importers());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().found, "\"vaw-properties\" (this is a vaw-properties file, not a scene)") << e.what();
+  }
+  const auto scene = writeScene(dir, validScene());
+  try {
+    (void)readPropertyFile(scene);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().found, "\"vaw-scene\" (this is a vaw-scene file, not a property file)") << e.what();
+  }
+}
+
+TEST(BadInputSuite, DirectoryIsNotInvalidJson) {
+  const auto dir = test::tempDir();
+  std::filesystem::create_directories(dir / "scene.vaw.json");
+  try {
+    (void)loadAny(dir / "scene.vaw.json", test::importers());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().expected, "an existing, readable file") << e.what();
+    EXPECT_EQ(e.diagnostic().found.rfind("a directory", 0), 0u) << e.what();
+  }
+}
+
+TEST(BadInputSuite, MeshSymlinkLoopIsNamed) {
+  // Threw std::filesystem::filesystem_error (uncaught: abort) and elsewhere read as "no such file".
+  const auto dir = test::tempDir();
+  std::filesystem::create_symlink("b.stl", dir / "a.stl");
+  std::filesystem::create_symlink("a.stl", dir / "b.stl");
+  json s = validScene();
+  s["parts"][1]["mesh"] = "a.stl";
+  test::writeFile(dir / "scene.vaw.json", s.dump());
+  try {
+    (void)loadScene(dir / "scene.vaw.json", test::importers());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().field, "parts[1].mesh") << e.what();
+    EXPECT_NE(e.diagnostic().found.find("a loop of symbolic links"), std::string::npos) << e.what();
+  }
+  try {
+    (void)loadAny(dir / "a.stl", test::importers());
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().found.rfind("a loop of symbolic links", 0), 0u) << e.what();
+  }
+}
+
+TEST(BadInputSuite, TooManyTrianglesAreRefusedBeforeTheChecks) {
+  // Welding and the edge checks of a mesh grow with its size (5 million triangles: about 9 s and
+  // 1.1 GB); a mesh above the stated limit is refused before them. An importer that returns one.
+  struct Huge final : MeshImporter {
+    [[nodiscard]] std::string name() const override { return "huge"; }
+    [[nodiscard]] std::vector<std::string> extensions() const override { return {"huge"}; }
+    [[nodiscard]] bool canRead(const std::filesystem::path&) const override { return true; }
+    [[nodiscard]] ImportedMesh read(const std::filesystem::path&, const ProgressFn&) const override {
+      ImportedMesh m;
+      m.root.mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+      m.root.mesh.triangles.assign(limits::kMaxTriangles + 1, Eigen::Vector3i(0, 1, 2));
+      return m;
+    }
+  };
+  ImporterRegistry importers;
+  importers.add(std::make_unique<Huge>());
+  const auto file = test::writeFile(test::tempDir() / "big.huge", "");
+  try {
+    (void)loadMeshFile(file, importers);
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.diagnostic().field, "triangles") << e.what();
+    EXPECT_EQ(e.diagnostic().expected, "at most 10000000 triangles in one mesh") << e.what();
+  }
+}
+
+TEST(BadInputSuite, UnusualFrictionLoadsWithAWarning) {
+  const auto dir = test::tempDir();
+  json s = validScene();
+  s["materials"]["steel"]["friction"] = {{"static", 3.0}, {"kinetic", 2.5}};
+  const Assembly a = loadScene(writeScene(dir, s), test::importers());
+  ASSERT_FALSE(a.warnings.empty());
+  EXPECT_EQ(a.warnings[0].field, "materials.steel.friction.static");
+  EXPECT_EQ(a.materials.at("steel").staticFriction, 3.0);
+}
+
 TEST(BadInputSuite, TheValidProbeLoads) {
   // The cases above are single edits of this scene, so each error is caused by its edit alone.
   const auto dir = test::tempDir();
@@ -217,7 +345,8 @@ TEST(BadInputSuite, MissingSceneFile) {
     (void)loadAny(test::tempDir() / "absent.vaw.json", test::importers());
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_EQ(e.diagnostic().found, "no such file");
+    // The name was resolved like a command-line name: the error says where it looked.
+    EXPECT_EQ(e.diagnostic().found.rfind("no such file (looked at ", 0), 0u) << e.diagnostic().found;
   }
 }
 

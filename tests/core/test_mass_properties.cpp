@@ -1,4 +1,4 @@
-// Mass properties against exact values (PHYSICS.md section 9).
+// Mass properties against exact values (docs/physics.md, "Mass properties").
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -66,6 +66,17 @@ TEST(Weld, KeepsVerticesFartherThanTolerance) {
   EXPECT_EQ(weldVertices(m, 3e-9), 1u);
 }
 
+TEST(Weld, FarOutCoordinatesAreDefined) {
+  // A 1e300 box overflowed the integer grid cells (undefined behaviour, reported by UBSan); cells are
+  // now clamped and far vertices still weld only by their true distance.
+  TriMesh m;
+  m.vertices = {{1e300, -1e300, 0}, {1e300, -1e300, 0}, {-1e300, 1e300, 1e300}, {4e18, 0, 0}, {4e18, 1, 0}, {0, 0, 0}};
+  m.triangles = {{0, 2, 3}, {1, 4, 5}};
+  EXPECT_EQ(weldVertices(m, 1e-9), 1u);  // the two equal corners, nothing else
+  EXPECT_EQ(m.vertices.size(), 5u);
+  EXPECT_EQ(m.triangles[1][0], 0);
+}
+
 TEST(Degenerate, RemovedAndCounted) {
   TriMesh m = primitives::box({1, 1, 1});
   m.triangles.emplace_back(0, 0, 1);  // repeated index

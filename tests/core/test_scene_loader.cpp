@@ -74,7 +74,7 @@ TEST(BundledScenes, GearCentreOfMassIsOffItsBore) {
   for (const auto& c : a.constraints)
     if (c.type == Constraint::Type::Insert) gear = &a.parts[c.part];
   ASSERT_NE(gear, nullptr);
-  // PHYSICS.md's paper-like gear: about 0.3 kg with the CM about 0.02 m off the axis.
+  // The paper-like gear (docs/physics.md, "Stability limits"): about 0.3 kg with the CM about 0.02 m off the axis.
   EXPECT_NEAR(gear->mass.mass, 0.3, 0.1);
   const auto& c = a.constraints[0];
   const Eigen::Vector3d r = gear->mass.centerOfMass - c.partAxis.point;

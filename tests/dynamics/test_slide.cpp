@@ -1,4 +1,4 @@
-// Sliding with Coulomb friction against closed-form solutions (PHYSICS.md section 3).
+// Sliding with Coulomb friction against closed-form solutions (docs/physics.md, "Sliding").
 #include <gtest/gtest.h>
 
 #include <cmath>

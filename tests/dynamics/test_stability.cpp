@@ -1,4 +1,5 @@
-// Where the methods fail, found numerically and asserted against theory (PHYSICS.md section 4).
+// Where the methods fail, found numerically and asserted against theory (docs/physics.md,
+// "Stability limits").
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -35,7 +36,7 @@ TEST(Stability, CheckReportsThePaperGearAt90And30Hz) {
   const double wn = std::sqrt(0.3 * 9.80665 * 0.02 / 4.95e-4);  // 10.9 rad/s
   const auto paper90 = checkStability(Method::PaperExplicit, wn, 0.0, 1.0 / 90);
   EXPECT_FALSE(paper90.stable);
-  EXPECT_NEAR(paper90.growthPerSecond, 1.39, 0.01);  // PHYSICS.md: about 39 % per second
+  EXPECT_NEAR(paper90.growthPerSecond, 1.39, 0.01);  // docs/physics.md: about 39 % per second
   const auto paper30 = checkStability(Method::PaperExplicit, wn, 0.0, 1.0 / 30);
   EXPECT_NEAR(paper30.growthPerSecond, 2.6, 0.1);
   EXPECT_NE(paper30.message.find("UNSTABLE"), std::string::npos);

@@ -309,6 +309,9 @@ void TestWorkbench::treeSelectionSelectsInViewport() {
   QVERIFY(!window_->partDock()->model()->value(QStringLiteral("Category")).isEmpty());
   QVERIFY2(window_->partDock()->model()->value(QStringLiteral("Collision")).startsWith(QStringLiteral("mesh")),
            qPrintable(window_->partDock()->model()->value(QStringLiteral("Collision"))));
+  // Its fit on the shaft, with the clearance.
+  QVERIFY2(window_->partDock()->model()->value(QStringLiteral("Fit")).contains(QStringLiteral("clearance 0 mm")),
+           qPrintable(window_->partDock()->model()->value(QStringLiteral("Fit"))));
 
   // ...and the viewport highlights it.
   const QImage after = capture();

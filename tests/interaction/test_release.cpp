@@ -1,4 +1,4 @@
-// Release velocity from noisy hand tracks (PHYSICS.md section 2): the paper's two-instance difference
+// Release velocity from noisy hand tracks (docs/physics.md, "Free flight"): the paper's two-instance difference
 // against a windowed least-squares fit, with 1 mm and 0.5 degree noise at 90 Hz.
 #include <gtest/gtest.h>
 
@@ -71,7 +71,7 @@ TEST(ReleaseVelocity, ExactOnCleanTracks) {
 }
 
 TEST(ReleaseVelocity, WindowedFitBeatsTheTwoInstanceDifferenceOnNoisyTracks) {
-  // 1 mm and 0.5 degree of noise per sample at 90 Hz (stated in the issue); RMS over 2000 seeded throws.
+  // 1 mm and 0.5 degree of noise per sample at 90 Hz (the tracking noise this estimator is set for); RMS over 2000 seeded throws.
   const double posNoise = 1e-3, angNoise = 0.5 * M_PI / 180.0;
   const Errors two = rms({ReleaseEstimator::TwoInstance, 0.0}, posNoise, angNoise);
   const Errors fit = rms({}, posNoise, angNoise);  // the default

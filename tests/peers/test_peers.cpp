@@ -1,5 +1,5 @@
 // The Bullet / ODE peers solve the same slide and pendulum as the workbench's reduced models
-// (PHYSICS.md sections 3-4). Every engine compiled in is tested (one instantiation per engine).
+// (docs/work-precision.md). Every engine compiled in is tested (one instantiation per engine).
 #include <gtest/gtest.h>
 
 #include <algorithm>

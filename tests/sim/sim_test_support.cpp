@@ -3,18 +3,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <random>
 
 #include "vaw/scene_loader.hpp"
 
 namespace vaw::simtest {
-
-std::filesystem::path tempDir() {
-  std::random_device rd;
-  auto dir = std::filesystem::temp_directory_path() / ("vaw-sim-test-" + std::to_string(rd()));
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 std::vector<std::string> transitionNames(const sim::World& w, PartId part) {
   std::vector<std::string> out;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "bundled.hpp"
+#include "files.hpp"
 #include "vaw/assembly.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/sim/world.hpp"
@@ -16,7 +17,6 @@ namespace vaw::simtest {
 using vaw::test::importers;
 using vaw::test::loadBundled;
 using vaw::test::resources;
-std::filesystem::path tempDir();
 
 inline Eigen::Isometry3d at(double x, double y, double z) {
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();

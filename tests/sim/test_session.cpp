@@ -19,7 +19,7 @@ TEST(Session, ScriptedSessionReplaysBitForBit) {
   std::vector<std::uint64_t> hashes;
   const World first = replay(a, s, [&](const World& w) { hashes.push_back(w.stateHash()); });
   ASSERT_GE(first.transitions().size(), 5u) << "the script exercises grab, release, slides and flight";
-  const auto dir = simtest::tempDir();
+  const auto dir = test::tempDir();
   saveSession(s, dir / "s.vaw-session.json");
   const Session loaded = loadSession(dir / "s.vaw-session.json");
   ASSERT_EQ(loaded.inputs.size(), s.inputs.size());
@@ -48,7 +48,6 @@ TEST(Session, ScriptedSessionReplaysBitForBit) {
   std::string header;
   std::getline(tr, header);
   EXPECT_EQ(header, "step,t,part,from,to,event,cause");
-  std::filesystem::remove_all(dir);
 }
 
 // A tracked hand's measured release velocity is part of the input: saved with 17 digits and replayed exactly.
@@ -82,7 +81,7 @@ TEST(Session, MeasuredHandVelocityRoundTrips) {
 }
 
 TEST(Session, BadScriptNamesTheFileAndField) {
-  const auto dir = simtest::tempDir();
+  const auto dir = test::tempDir();
   std::ofstream(dir / "bad.json") << R"({"format": "vaw-inputs", "version": 1, "duration": 1,
     "keyframes": [{"t": 0, "left": {"position": [0, 0], "grab": true}}]})";
   Settings s;
@@ -93,7 +92,6 @@ TEST(Session, BadScriptNamesTheFileAndField) {
     EXPECT_NE(std::string(e.what()).find("bad.json"), std::string::npos) << e.what();
     EXPECT_NE(e.diagnostic().field.find("keyframes[0].left.position"), std::string::npos) << e.diagnostic().field;
   }
-  std::filesystem::remove_all(dir);
 }
 
 // The bundled hoist demo script: the hand is refused the 40 kg block, the hoist (placed by "hoist_at")

@@ -1,4 +1,4 @@
-// Hands, release and free flight (issue 5 scenarios; the paper's pictures of a part dropped or thrown from
+// Hands, release and free flight (the paper's pictures of a part dropped or thrown from
 // the hand). Tolerances: free flight is closed form, so positions match the closed form to 1e-9 m; a
 // flight stops within the time-of-impact tolerance (10 um) of the table, asserted at 0.1 mm.
 #include <gtest/gtest.h>

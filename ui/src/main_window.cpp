@@ -578,7 +578,7 @@ bool MainWindow::saveScene(const QString& file) {
   try {
     vaw::sim::saveScene(simulation_->world().assembly(), simulation_->world(),
                         std::filesystem::path(QFile::encodeName(file).toStdString()));
-  } catch (const vaw::InputError& e) {
+  } catch (const std::exception& e) {  // vaw::InputError, or vaw::OutputError when the disk refuses it
     const QString text = tr("Could not save the scene: %1").arg(QString::fromUtf8(e.what()));
     message(static_cast<int>(MessageLogModel::Severity::Error), text);
     statusBar()->showMessage(text, 10000);

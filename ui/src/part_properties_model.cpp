@@ -88,6 +88,8 @@ void PartPropertiesModel::setPart(const vaw::Assembly* assembly, std::optional<v
     add(tr("Triangles"), p.mesh ? QString::number(p.mesh->triangleCount()) : tr("none"));
     add(tr("Shape"), format::str(p.shapeSource));
     if (collision != nullptr) add(tr("Collision"), format::collision(*collision), format::str(collision->proxyReason));
+    if (collision != nullptr && !collision->fit.empty())
+      add(tr("Fit"), format::str(collision->fit), tr("how its constraints meet the base (a bore on a shaft: the clearance)"));
     add(tr("Material"), format::str(p.material));
     add(tr("Position"), format::vectorMm(p.pose.translation()), tr("part frame origin in the world"));
     if (!p.propertyFile.empty()) add(tr("Property file"), format::str(p.propertyFile.string()));

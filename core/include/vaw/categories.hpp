@@ -1,5 +1,5 @@
 #pragma once
-// Who can lift a part: one hand, two hands, or a tool (paper section 4; PHYSICS.md section 7).
+// Who can lift a part: one hand, two hands, or a tool (paper section 4; docs/categories.md).
 // Thresholds are settings; the defaults and their sources are in docs/categories.md.
 #include <string>
 #include <string_view>

@@ -1,6 +1,6 @@
 #pragma once
 // Errors for bad user input. Every one names the file, the field inside it and what was expected,
-// so a person can fix the file without reading our code (DESIGN.md principle 6).
+// so a person can fix the file without reading our code (docs/architecture.md, "Errors by audience").
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -25,6 +25,13 @@ class InputError : public std::runtime_error {
 
  private:
   Diagnostic d_;
+};
+
+// An output file that could not be written (full disk, file-size limit, no permission): the message
+// names the file and the system's reason.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 [[noreturn]] void fail(std::string file, std::string field, std::string expected, std::string found = {});

@@ -3,7 +3,10 @@
 // the faces' outlines, an axis support from the cylinders' axial extents.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <optional>
+#include <string>
 
 #include "geometry2d.hpp"
 #include "vaw/collision/collision_world.hpp"
@@ -54,28 +57,95 @@ std::vector<int> cylindersOnAxis(const SurfacePatches& sp, const Axis& axis, con
   return found;
 }
 
-bool fits(const CylindricalPatch& a, const CylindricalPatch& b, const Tolerances& tol) {
-  return a.convex != b.convex && std::abs(a.radius - b.radius) <= tol.radius;
+// Radial clearance of a bore on a shaft (opposite kinds): the bore's radius minus the shaft's; negative
+// for interference.
+double clearanceOf(const CylindricalPatch& a, const CylindricalPatch& b) {
+  return a.convex ? b.radius - a.radius : a.radius - b.radius;
+}
+
+// Millimetres to 0.1 um, trailing zeros dropped: meshes written in single precision put radii a few
+// hundredths of a micrometre off, which is not a clearance worth printing.
+std::string mm(double metres) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.4f", 1e3 * metres);
+  std::string out = buf;
+  while (out.back() == '0') out.pop_back();
+  if (out.back() == '.') out.pop_back();
+  if (out == "-0") out = "0";
+  return out + " mm";
+}
+
+void matchAxis(Support& s, const SurfacePatches& pp, const SurfacePatches& bp, const Tolerances& tol) {
+  const std::vector<int> pc = cylindersOnAxis(pp, s.partAxis, tol);
+  const std::vector<int> bc = cylindersOnAxis(bp, s.baseAxis, tol);
+  // Every bore-and-shaft pair on the axis by its clearance. The fit is the tightest pair that is not
+  // interference (a sleeve's bore on the shaft, not its outside in some wider bore of the base), with
+  // every pair as tight as it within the radius tolerance (a shaft in two bearing seats).
+  struct Pair {
+    int i, j;
+    double clearance;
+  };
+  std::vector<Pair> pairs;
+  for (int i : pc)
+    for (int j : bc) {
+      const CylindricalPatch& a = pp.cylinders[static_cast<std::size_t>(i)];
+      const CylindricalPatch& b = bp.cylinders[static_cast<std::size_t>(j)];
+      if (a.convex != b.convex) pairs.push_back({i, j, clearanceOf(a, b)});
+    }
+  const Pair* tightest = nullptr;
+  const Pair* leastInterference = nullptr;
+  for (const Pair& p : pairs) {
+    if (p.clearance >= -tol.radius) {
+      if (!tightest || p.clearance < tightest->clearance) tightest = &p;
+    } else if (!leastInterference || p.clearance > leastInterference->clearance) {
+      leastInterference = &p;
+    }
+  }
+  if (!tightest) {
+    if (leastInterference) {
+      const CylindricalPatch& a = pp.cylinders[static_cast<std::size_t>(leastInterference->i)];
+      const CylindricalPatch& b = bp.cylinders[static_cast<std::size_t>(leastInterference->j)];
+      const CylindricalPatch& bore = a.convex ? b : a;
+      const CylindricalPatch& shaft = a.convex ? a : b;
+      s.partRadius = a.radius;
+      s.baseRadius = b.radius;
+      s.partIsBore = !a.convex;
+      s.clearance = leastInterference->clearance;
+      s.problem = "interference: the " + std::string(a.convex ? "base's bore" : "part's bore") + " (r = " + mm(bore.radius) +
+                  ") is " + mm(-leastInterference->clearance) + " smaller than the " +
+                  std::string(a.convex ? "part's shaft" : "base's shaft") + " (r = " + mm(shaft.radius) +
+                  "); a bore fits a shaft when it is at least as large (to within " + mm(tol.radius) + ")";
+    } else if (pc.empty() || bc.empty()) {
+      s.problem = "no cylindrical surface on the constraint axis (part: " + std::to_string(pc.size()) +
+                  ", base: " + std::to_string(bc.size()) + ")";
+    } else {
+      s.problem = "no bore and shaft pair on the constraint axis (the part's and the base's cylinders there are all shafts or all bores)";
+    }
+    return;
+  }
+  s.clearance = std::max(0.0, tightest->clearance);
+  s.partRadius = pp.cylinders[static_cast<std::size_t>(tightest->i)].radius;
+  s.partIsBore = !pp.cylinders[static_cast<std::size_t>(tightest->i)].convex;
+  s.baseRadius = bp.cylinders[static_cast<std::size_t>(tightest->j)].radius;
+  for (const Pair& p : pairs) {
+    if (p.clearance < -tol.radius || p.clearance > tightest->clearance + tol.radius) continue;
+    s.fitPairs.emplace_back(p.i, p.j);
+    if (std::find(s.partPatches.begin(), s.partPatches.end(), p.i) == s.partPatches.end()) s.partPatches.push_back(p.i);
+    if (std::find(s.basePatches.begin(), s.basePatches.end(), p.j) == s.basePatches.end()) s.basePatches.push_back(p.j);
+  }
 }
 
 }  // namespace
 
-Support CollisionWorld::support(const Constraint& c) const {
+Support matchSupport(const Constraint& c, PartId base, const SurfacePatches* pp, const SurfacePatches* bp, const Tolerances& tol) {
   Support s;
   s.part = c.part;
-  if (!base()) {
-    s.problem = "the assembly has no base";
-    return s;
-  }
-  s.base = *base();
+  s.base = base;
   s.offset = c.offset;
   if (c.type == Constraint::Type::Align) {
     s.problem = "an align constraint has no contact face; touching is defined for mate and insert constraints";
     return s;
   }
-  const SurfacePatches* pp = patches(ObjectId::part(s.part));
-  const SurfacePatches* bp = patches(ObjectId::part(s.base));
-  const Tolerances& tol = tolerances();
   if (c.type == Constraint::Type::Mate) {
     s.kind = Support::Kind::Plane;
     s.partPlane = {c.partPlane.point, c.partPlane.normal.normalized()};
@@ -86,9 +156,8 @@ Support CollisionWorld::support(const Constraint& c) const {
     }
     s.partPatches = patchesInPlane(*pp, s.partPlane, tol);
     s.basePatches = patchesInPlane(*bp, s.basePlane, tol);
-    if (s.partPatches.empty()) s.problem = "no face of part \"" + info(ObjectId::part(s.part)).name + "\" lies in the constraint's part plane";
+    if (s.partPatches.empty()) s.problem = "no face of the part lies in the constraint's part plane";
     else if (s.basePatches.empty()) s.problem = "no face of the base lies in the constraint's base plane";
-    prepare(s);
     return s;
   }
   s.kind = Support::Kind::Axis;
@@ -98,18 +167,51 @@ Support CollisionWorld::support(const Constraint& c) const {
     s.problem = "part or base has no mesh to find the constraint cylinders on";
     return s;
   }
-  const std::vector<int> pc = cylindersOnAxis(*pp, s.partAxis, tol);
-  const std::vector<int> bc = cylindersOnAxis(*bp, s.baseAxis, tol);
-  for (int i : pc)
-    for (int j : bc)
-      if (fits(pp->cylinders[static_cast<std::size_t>(i)], bp->cylinders[static_cast<std::size_t>(j)], tol)) {
-        if (std::find(s.partPatches.begin(), s.partPatches.end(), i) == s.partPatches.end()) s.partPatches.push_back(i);
-        if (std::find(s.basePatches.begin(), s.basePatches.end(), j) == s.basePatches.end()) s.basePatches.push_back(j);
-      }
-  if (s.partPatches.empty())
-    s.problem = pc.empty() || bc.empty() ? "no cylindrical surface on the constraint axis (part: " + std::to_string(pc.size()) +
-                                               ", base: " + std::to_string(bc.size()) + ")"
-                                         : "no equal-diameter bore and shaft pair on the constraint axis";
+  matchAxis(s, *pp, *bp, tol);
+  return s;
+}
+
+std::string describeFit(const Support& s) {
+  const std::string kind = s.kind == Support::Kind::Axis ? "insert: " : "mate: ";
+  if (!s.problem.empty()) return kind + s.problem;
+  if (s.kind == Support::Kind::Plane) {
+    const auto faces = [](std::size_t n) { return std::to_string(n) + (n == 1 ? " face" : " faces"); };
+    return kind + faces(s.partPatches.size()) + " of the part on " + faces(s.basePatches.size()) + " of the base";
+  }
+  const bool partIsBore = s.partIsBore;
+  return kind + "the part's " + (partIsBore ? "bore" : "shaft") + " (r = " + mm(s.partRadius) + ") " + (partIsBore ? "on" : "in") +
+         " the base's " + (partIsBore ? "shaft" : "bore") + " (r = " + mm(s.baseRadius) + "), clearance " + mm(s.clearance);
+}
+
+std::vector<ConstraintFit> constraintFits(const Assembly& a, const Tolerances& tol) {
+  std::vector<ConstraintFit> out;
+  if (!a.base) return out;
+  std::vector<std::optional<SurfacePatches>> patches(a.parts.size());
+  const auto of = [&](PartId id) -> const SurfacePatches* {
+    if (id >= a.parts.size() || !a.parts[id].mesh) return nullptr;
+    if (!patches[id]) patches[id] = classifySurfaces(*a.parts[id].mesh);
+    return &*patches[id];
+  };
+  for (std::size_t i = 0; i < a.constraints.size(); ++i) {
+    const Constraint& c = a.constraints[i];
+    ConstraintFit f;
+    f.constraint = i;
+    f.support = c.type == Constraint::Type::Align ? matchSupport(c, *a.base, nullptr, nullptr, tol)
+                                                  : matchSupport(c, *a.base, of(c.part), of(*a.base), tol);
+    f.text = describeFit(f.support);
+    out.push_back(std::move(f));
+  }
+  return out;
+}
+
+Support CollisionWorld::support(const Constraint& c) const {
+  if (!base()) {
+    Support s;
+    s.part = c.part;
+    s.problem = "the assembly has no base";
+    return s;
+  }
+  Support s = matchSupport(c, *base(), patches(ObjectId::part(c.part)), patches(ObjectId::part(*base())), tolerances());
   prepare(s);
   return s;
 }
@@ -137,7 +239,7 @@ TouchResult CollisionWorld::touching(const Support& s, const Eigen::Isometry3d& 
       r.reason = "the part's axis is tilted off the base's axis";
       return r;
     }
-    if (r.separation > tol.distance + tol.radius) {
+    if (r.separation > tol.distance + tol.radius + s.clearance) {
       r.reason = "the part's axis is off the base's axis";
       return r;
     }
@@ -146,15 +248,11 @@ TouchResult CollisionWorld::touching(const Support& s, const Eigen::Isometry3d& 
       const double b = ub.dot(toBase * Eigen::Vector3d(c.point + c.length * c.direction) - ob);
       return std::pair{std::min(a, b), std::max(a, b)};
     };
-    for (int i : s.partPatches)
-      for (int j : s.basePatches) {
-        const CylindricalPatch& pc = pp.cylinders[static_cast<std::size_t>(i)];
-        const CylindricalPatch& bc = bp.cylinders[static_cast<std::size_t>(j)];
-        if (!fits(pc, bc, tol)) continue;
-        const auto [p0, p1] = interval(pc, partToBase);
-        const auto [b0, b1] = interval(bc, Eigen::Isometry3d::Identity());
-        r.margin = std::max(r.margin, std::min(p1, b1) - std::max(p0, b0));
-      }
+    for (const auto& [i, j] : s.fitPairs) {
+      const auto [p0, p1] = interval(pp.cylinders[static_cast<std::size_t>(i)], partToBase);
+      const auto [b0, b1] = interval(bp.cylinders[static_cast<std::size_t>(j)], Eigen::Isometry3d::Identity());
+      r.margin = std::max(r.margin, std::min(p1, b1) - std::max(p0, b0));
+    }
     r.touching = r.margin >= -tol.distance;
     if (!r.touching) r.reason = "the part has slid off the base's cylinder";
     return r;

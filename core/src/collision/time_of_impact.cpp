@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace vaw::collision {
 
@@ -120,9 +121,14 @@ MotionEvent firstEventOnBase(const CollisionWorld& world, const Support& support
   ev.s = ev.sEvent = motion.s1;
   const double L = motion.speedBound;
   const double span = std::max(0.0, motion.s1 - motion.s0);
+  // The last blocked check, kept: the event's contacts are those found where it was last seen blocked.
+  double lastS = std::numeric_limits<double>::quiet_NaN();
+  BlockResult last;
   auto isBlocked = [&](double s) {
     ++ev.evaluations;
-    return world.blocked(support, motion.pose(s), 1).blocked;
+    last = world.blocked(support, motion.pose(s), 1);
+    lastS = s;
+    return last.blocked;
   };
   auto isLost = [&](double s) {
     ++ev.evaluations;
@@ -133,21 +139,21 @@ MotionEvent firstEventOnBase(const CollisionWorld& world, const Support& support
     ev.s = lo;
     ev.sEvent = hi;
     if (kind == EventKind::Blocked) {
-      const BlockResult b = world.blocked(support, motion.pose(hi), 8);
+      const BlockResult b = lastS == hi && last.blocked ? std::move(last) : world.blocked(support, motion.pose(hi), 8);
       ev.contacts = b.contacts;
       ev.other = b.by;
     }
     ev.touch = world.touching(support, motion.pose(hi));
     return ev;
   };
-  const bool blocked0 = isBlocked(motion.s0), lost0 = isLost(motion.s0);
-  if (blocked0 || lost0) {
-    ev.initiallyBlocked = true;
-    return finish(blocked0 ? EventKind::Blocked : EventKind::LostTouch, motion.s0, motion.s0);
+  if (!options.startFree) {
+    const bool blocked0 = isBlocked(motion.s0), lost0 = isLost(motion.s0);
+    if (blocked0 || lost0) {
+      ev.initiallyBlocked = true;
+      return finish(blocked0 ? EventKind::Blocked : EventKind::LostTouch, motion.s0, motion.s0);
+    }
   }
   if (span <= 0.0 || L <= 0.0) return ev;
-  // Samples no farther apart than maxStep of motion of any point, then bisection to the tolerance.
-  const int n = std::max(1, static_cast<int>(std::ceil(L * span / options.maxStep)));
   auto bisect = [&](const auto& pred, double lo, double hi) {
     for (int it = 0; it < options.maxIterations && (hi - lo) * L > options.tolerance; ++it) {
       const double mid = 0.5 * (lo + hi);
@@ -155,9 +161,26 @@ MotionEvent firstEventOnBase(const CollisionWorld& world, const Support& support
     }
     return std::pair{lo, hi};
   };
-  double prev = motion.s0;
+  // An expected event just beyond the start is bracketed by one short first sample (a few tolerances),
+  // not by a whole maxStep that bisection must then narrow.
+  double from = motion.s0;
+  if (options.firstStep > 0.0 && options.firstStep < L * span) {
+    from = motion.s0 + options.firstStep / L;
+    const bool b = isBlocked(from), l = isLost(from);
+    if (b || l) {
+      std::pair<double, double> pb{from, from}, pl{from, from};
+      if (b) pb = bisect(isBlocked, motion.s0, from);
+      if (l) pl = bisect(isLost, motion.s0, from);
+      if (b && (!l || pb.second <= pl.second)) return finish(EventKind::Blocked, pb.first, pb.second);
+      return finish(EventKind::LostTouch, pl.first, pl.second);
+    }
+  }
+  // Samples no farther apart than maxStep of motion of any point, then bisection to the tolerance.
+  const double rest = motion.s1 - from;
+  const int n = std::max(1, static_cast<int>(std::ceil(L * rest / options.maxStep)));
+  double prev = from;
   for (int k = 1; k <= n; ++k) {
-    const double s = k == n ? motion.s1 : motion.s0 + span * static_cast<double>(k) / static_cast<double>(n);
+    const double s = k == n ? motion.s1 : from + rest * static_cast<double>(k) / static_cast<double>(n);
     const bool b = isBlocked(s), l = isLost(s);
     if (b || l) {
       std::pair<double, double> pb{s, s}, pl{s, s};

@@ -1,7 +1,7 @@
 #include "vaw/dynamics/hinge.hpp"
 
+#include <cassert>
 #include <cmath>
-#include <stdexcept>
 
 namespace vaw::dyn {
 
@@ -44,9 +44,9 @@ double Hinge::energy(const HingeTorque& t, const HingeState& s) const {
 }
 
 void Hinge::step(HingeState& s, const HingeTorque& t, double h, Method m) const {
-  if (m == Method::Exact) throw std::invalid_argument("a rotation about an axis has no constant-acceleration closed form");
+  assert(supports(kMethods, m));
   const auto f = [this, &t](double, double angle, double omega) { return acceleration(t, angle, omega); };
-  const Phase next = vaw::dyn::step(m, f, 0.0, Phase{s.angle, s.omega}, h);
+  const Phase next = vaw::dyn::step(m, f, 0.0, Phase{s.angle, s.omega}, h, -fr_ / J_);
   s.angle = next.x;
   s.omega = next.v;
 }

@@ -12,8 +12,8 @@ constexpr double kRoundOff = 1e-14;
 
 double spectralRadius(Method m, double wn, double c, double h) {
   const auto f = [wn, c](double, double x, double v) { return -wn * wn * x - c * v; };
-  const Phase e1 = step(m, f, 0.0, Phase{1.0, 0.0}, h);
-  const Phase e2 = step(m, f, 0.0, Phase{0.0, 1.0}, h);
+  const Phase e1 = step(m, f, 0.0, Phase{1.0, 0.0}, h, -c);
+  const Phase e2 = step(m, f, 0.0, Phase{0.0, 1.0}, h, -c);
   Eigen::Matrix2d M;
   M << e1.x, e2.x, e1.v, e2.v;
   return M.eigenvalues().cwiseAbs().maxCoeff();

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "vaw/dynamics/hinge.hpp"
+
 namespace vaw::sim {
 
 namespace {
@@ -35,7 +37,7 @@ std::string validateFriction(const FrictionValues& f) {
   return {};
 }
 
-bool rotationSupports(dyn::Method m) { return m != dyn::Method::Exact; }
+bool rotationSupports(dyn::Method m) { return dyn::supports(dyn::Hinge::kMethods, m); }
 
 std::string describe(const Edit& e, const Assembly& assembly) {
   if (const auto* g = std::get_if<GravityEdit>(&e))

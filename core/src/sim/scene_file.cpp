@@ -1,11 +1,10 @@
 #include "vaw/sim/scene_file.hpp"
 
-#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <system_error>
 
+#include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
 
 namespace vaw::sim {
@@ -72,24 +71,8 @@ void saveScene(const Assembly& loaded, const World& world, const std::filesystem
                              {"rotation_method", std::string(dyn::name(s.rotationMethod))},
                              {"friction", friction}};
 
-  const std::filesystem::path temporary = target.string() + ".saving";
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    if (!out) fail(target.string(), "", "a folder vaw may write the scene into");
-    out << json.dump(2) << '\n';
-    out.flush();
-    if (!out) {
-      std::error_code ignored;
-      std::filesystem::remove(temporary, ignored);
-      fail(target.string(), "", "room to write the scene (the write failed; the previous file is kept)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, target, ec);
-  if (ec) {
-    std::filesystem::remove(temporary, ec);
-    fail(target.string(), "", "a file vaw may replace", ec.message());
-  }
+  // The previous file stays whole until the new one is complete on disk.
+  writeFileAtomically(target, json.dump(2) + "\n");
 }
 
 }  // namespace vaw::sim

@@ -3,11 +3,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <map>
+#include <limits>
 #include <numbers>
 
 #include "../json_node.hpp"
+#include "vaw/atomic_file.hpp"
+#include "vaw/dynamics/hinge.hpp"
+#include "vaw/limits.hpp"
 
 namespace vaw::sim {
 
@@ -24,9 +26,23 @@ Eigen::Isometry3d readPose(const Node& n, double L, bool allowGrab) {
   if (allowGrab) n.allowOnly({"position", "rotation", "grab"});
   else n.allowOnly({"position", "rotation"});
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.translation() = n.get("position").vec3() * L;
+  pose.translation() = n.get("position").position(L);
   if (auto r = n.opt("rotation")) pose.linear() = r->rotation();
   return pose;
+}
+
+// The speed the world would see between two keyframes of a channel (m/s); a jump at one instant is
+// infinitely fast.
+double speedBetween(double t0, const Eigen::Vector3d& p0, double t1, const Eigen::Vector3d& p1) {
+  const double d = (p1 - p0).norm();
+  if (d == 0.0) return 0.0;
+  return t1 > t0 ? d / (t1 - t0) : std::numeric_limits<double>::infinity();
+}
+
+std::string speedText(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, std::isfinite(v) ? "%.4g m/s" : "a jump at one instant", v);
+  return buf;
 }
 
 template <class T>
@@ -85,6 +101,11 @@ Eigen::Isometry3d poseFrom(const Node& n) {
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 4; ++c) p.matrix()(r, c) = n.at(static_cast<std::size_t>(r * 4 + c)).number();
+  const Eigen::Matrix3d R = p.linear();
+  if (!((R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <= 1e-9 && R.determinant() > 0.0))
+    n.fail("a pose whose 3 x 3 part is a rotation (orthonormal within 1e-9, determinant +1)");
+  if (!(p.translation().cwiseAbs().maxCoeff() <= limits::kMaxCoordinate))
+    n.fail("a position within " + std::to_string(static_cast<int>(limits::kMaxCoordinate)) + " m of the origin (the world bound)");
   return p;
 }
 
@@ -134,7 +155,7 @@ HoistInput hoistFrom(const Node& h) {
   h.allowOnly({"engaged", "height", "yaw"});
   HoistInput out;
   out.engaged = boolean(h.get("engaged"));
-  out.height = h.get("height").number();
+  out.height = h.get("height").number(-limits::kMaxCoordinate, limits::kMaxCoordinate, "m");
   out.yaw = h.get("yaw").number();
   return out;
 }
@@ -158,14 +179,6 @@ FrictionValues frictionFrom(const Node& n) {
   return {n.get("static").number(), n.get("kinetic").number(), n.get("rotational").number()};
 }
 
-const std::map<std::string, dyn::Method>& methods() {
-  static const std::map<std::string, dyn::Method> m{{"paper-explicit", dyn::Method::PaperExplicit},
-                                                    {"semi-implicit-euler", dyn::Method::SemiImplicitEuler},
-                                                    {"velocity-verlet", dyn::Method::VelocityVerlet},
-                                                    {"rk4", dyn::Method::RK4}};
-  return m;
-}
-
 Json gravityJson(const dyn::GravityScales& g) {
   return Json{{"free_flight", g.freeFlight}, {"slide", g.slide}, {"rotation", g.rotation}};
 }
@@ -173,16 +186,16 @@ Json gravityJson(const dyn::GravityScales& g) {
 dyn::GravityScales gravityFrom(const Node& g) {
   g.allowOnly({"free_flight", "slide", "rotation"});
   dyn::GravityScales out;
-  out.freeFlight = g.get("free_flight").nonNegative();
-  out.slide = g.get("slide").nonNegative();
-  out.rotation = g.get("rotation").nonNegative();
+  out.freeFlight = g.get("free_flight").number(0.0, limits::kMaxGravityScale, "");
+  out.slide = g.get("slide").number(0.0, limits::kMaxGravityScale, "");
+  out.rotation = g.get("rotation").number(0.0, limits::kMaxGravityScale, "");
   return out;
 }
 
 dyn::Method methodFrom(const Node& m) {
-  const auto it = methods().find(m.string());
-  if (it == methods().end()) m.fail("paper-explicit, semi-implicit-euler, velocity-verlet or rk4");
-  return it->second;
+  const auto method = dyn::parseMethod(m.string(), dyn::Hinge::kMethods);
+  if (!method) m.fail("a method a rotation about an axis supports: " + dyn::describe(dyn::Hinge::kMethods));
+  return *method;
 }
 
 Json editJson(const EditRecord& r) {
@@ -235,7 +248,7 @@ EditRecord editFrom(const Node& n) {
     r.edit = MethodEdit{methodFrom(n.get("rotation_method"))};
   } else if (t == "rate") {
     n.allowOnly({"step", "type", "rate"});
-    r.edit = RateEdit{n.get("rate").positive()};
+    r.edit = RateEdit{n.get("rate").number(limits::kMinRate, limits::kMaxRate, "Hz")};
   } else {
     type.fail("an edit type: gravity, material-friction, part-friction, method or rate");
   }
@@ -259,7 +272,7 @@ Json settingsJson(const Settings& s) {
 
 Settings settingsFrom(const Node& n) {
   Settings s;
-  s.rate = n.get("rate").positive();
+  s.rate = n.get("rate").number(limits::kMinRate, limits::kMaxRate, "Hz");
   s.gravity = gravityFrom(n.get("gravity_scale"));
   s.rotationMethod = methodFrom(n.get("rotation_method"));
   const Node r = n.get("release");
@@ -267,17 +280,19 @@ Settings settingsFrom(const Node& n) {
   if (est.string() == "windowed-fit") s.release.estimator = interact::ReleaseEstimator::WindowedFit;
   else if (est.string() == "two-instance") s.release.estimator = interact::ReleaseEstimator::TwoInstance;
   else est.fail("windowed-fit or two-instance");
-  s.release.window = r.get("window").positive();
-  s.recognizeDistance = n.get("recognize").get("distance").nonNegative();
-  s.recognizeAngle = n.get("recognize").get("angle").nonNegative();
-  s.placeDistance = n.get("place").get("distance").nonNegative();
-  s.placeAngle = n.get("place").get("angle").nonNegative();
-  s.grabReach = n.get("grab_reach").nonNegative();
+  s.release.window = r.get("window").number(0.001, 1.0, "s");
+  s.recognizeDistance = n.get("recognize").get("distance").number(0.0, limits::kMaxReach, "m");
+  s.recognizeAngle = n.get("recognize").get("angle").number(0.0, 180.0, "degrees");
+  s.placeDistance = n.get("place").get("distance").number(0.0, limits::kMaxReach, "m");
+  s.placeAngle = n.get("place").get("angle").number(0.0, 180.0, "degrees");
+  s.grabReach = n.get("grab_reach").number(0.0, limits::kMaxReach, "m");
   s.inertialForces = boolean(n.get("inertial_forces"));
-  s.rotationModelTolerance = n.get("rotation_model_tolerance").positive();
+  s.rotationModelTolerance = n.get("rotation_model_tolerance").number(1e-9, 180.0, "degrees");
   if (auto h = n.opt("hoist")) {
     h->allowOnly({"x", "y", "reach"});
-    s.hoist = HoistPlacement{{h->get("x").number(), h->get("y").number()}, h->get("reach").nonNegative()};
+    s.hoist = HoistPlacement{{h->get("x").number(-limits::kMaxCoordinate, limits::kMaxCoordinate, "m"),
+                              h->get("y").number(-limits::kMaxCoordinate, limits::kMaxCoordinate, "m")},
+                             h->get("reach").number(0.0, limits::kMaxReach, "m")};
   }
   return s;
 }
@@ -298,10 +313,9 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
   const Json json = detail::readJsonFile(file);
   const std::string fileName = file.string();
   const Node root(json, "", fileName);
-  root.requireObject();
+  root.requireFormat("vaw-inputs");
   root.allowOnly({"format", "version", "units", "rate", "duration", "keyframes", "description", "hoist_at"});
-  const Node format = root.get("format");
-  if (format.string() != "vaw-inputs") format.fail("\"vaw-inputs\"");
+  if (auto d = root.opt("description")) (void)d->string();
   const Node version = root.get("version");
   if (version.integer() != kInputsFormatVersion) version.fail("version " + std::to_string(kInputsFormatVersion));
   double L = 1.0;
@@ -309,12 +323,20 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
     if (u->string() == "mm") L = 1e-3;
     else if (u->string() != "m") u->fail("\"m\" or \"mm\"");
   }
-  if (auto r = root.opt("rate")) settings.rate = r->positive();
+  if (auto r = root.opt("rate")) settings.rate = r->number(limits::kMinRate, limits::kMaxRate, "Hz");
   if (auto ha = root.opt("hoist_at")) {
     if (!ha->json().is_array() || ha->size() != 2) ha->fail("[x, y]: where the hoist's vertical line stands");
-    settings.hoist = HoistPlacement{Eigen::Vector2d(ha->at(0).number(), ha->at(1).number()) * L, HoistPlacement{}.reach};
+    const Eigen::Vector2d xy = Eigen::Vector2d(ha->at(0).number(), ha->at(1).number()) * L;
+    if (!(xy.cwiseAbs().maxCoeff() <= limits::kMaxCoordinate)) ha->fail("[x, y] within the world bound of 1000 m");
+    settings.hoist = HoistPlacement{xy, HoistPlacement{}.reach};
   }
-  const double duration = root.get("duration").positive();
+  const Node durationNode = root.get("duration");
+  const double duration = durationNode.number(0.0, limits::kMaxDuration, "s");
+  // Counted in double first: a long duration at a high rate must not overflow the step count.
+  const double stepCount = std::round(duration * settings.rate);
+  if (!(stepCount >= 1.0 && stepCount <= static_cast<double>(limits::kMaxSteps)))
+    durationNode.failWith("a duration of 1 to " + std::to_string(limits::kMaxSteps) + " steps at " + std::to_string(settings.rate) + " Hz",
+                          std::to_string(stepCount) + " steps");
   const Node keys = root.get("keyframes");
   keys.requireArray();
   Channel<Eigen::Isometry3d> pose[3];  // left, right, base
@@ -326,14 +348,25 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
     k.requireObject();
     k.allowOnly({"t", "left", "right", "base", "hoist"});
     const Node tn = k.get("t");
-    const double t = tn.nonNegative();
+    const double t = tn.number(0.0, limits::kMaxDuration, "s");
     if (t < last) tn.fail("a time not before the previous keyframe's (" + std::to_string(last) + " s)");
     last = t;
     const char* handNames[2] = {"left", "right"};
+    // A channel may not move faster than a hand can: a keyframe far from the last one at nearly the
+    // same time would throw the part at any speed.
+    const auto addPose = [&](Channel<Eigen::Isometry3d>& c, const Node& n, bool allowGrab) {
+      const Eigen::Isometry3d p = readPose(n, L, allowGrab);
+      if (!c.empty()) {
+        const double v = speedBetween(c.back().t, c.back().value.translation(), t, p.translation());
+        if (v > limits::kMaxSpeed)
+          n.get("position").failWith("a position reached from the previous keyframe at up to 100 m/s", speedText(v));
+      }
+      c.push_back({t, p});
+    };
     for (int h = 0; h < 2; ++h) {
       if (auto hn = k.opt(handNames[h])) {
         hn->requireObject();
-        if (hn->has("position")) pose[h].push_back({t, readPose(*hn, L, true)});
+        if (hn->has("position")) addPose(pose[h], *hn, true);
         else hn->allowOnly({"grab"});
         if (auto g = hn->opt("grab")) {
           if (!g->json().is_boolean()) g->fail("true or false");
@@ -341,19 +374,27 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
         }
       }
     }
-    if (auto b = k.opt("base")) pose[2].push_back({t, readPose(*b, L, false)});
+    if (auto b = k.opt("base")) addPose(pose[2], *b, false);
     if (auto hn = k.opt("hoist")) {
       hn->allowOnly({"engaged", "height", "yaw"});
       if (auto e = hn->opt("engaged")) {
         if (!e->json().is_boolean()) e->fail("true or false");
         engaged.push_back({t, e->json().get<bool>()});
       }
-      if (auto hh = hn->opt("height")) height.push_back({t, hh->number() * L});
+      if (auto hh = hn->opt("height")) {
+        const double z = hh->number() * L;
+        if (!(std::abs(z) <= limits::kMaxCoordinate)) hh->fail("a height within the world bound of 1000 m");
+        if (!height.empty()) {
+          const double v = speedBetween(height.back().t, Eigen::Vector3d(0, 0, height.back().value), t, Eigen::Vector3d(0, 0, z));
+          if (v > limits::kMaxSpeed) hh->failWith("a height reached from the previous keyframe at up to 100 m/s", speedText(v));
+        }
+        height.push_back({t, z});
+      }
       if (auto y = hn->opt("yaw")) yaw.push_back({t, y->number() * kDeg});
     }
   }
   const double h = settings.step();
-  const auto steps = static_cast<std::size_t>(std::llround(duration / h));
+  const auto steps = static_cast<std::size_t>(stepCount);
   std::vector<Input> inputs(steps);
   for (std::size_t s = 0; s < steps; ++s) {
     const double t = static_cast<double>(s + 1) * h;
@@ -371,6 +412,12 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
 }
 
 void saveSession(const Session& s, const std::filesystem::path& file) {
+  AtomicFile out(file);
+  saveSession(s, out);
+  out.commit();
+}
+
+void saveSession(const Session& s, AtomicFile& out) {
   // Each input lists what changed since the previous step (the first step everything), so an idle
   // stretch of a long session costs a few bytes a step.
   Json inputs = Json::array();
@@ -391,20 +438,15 @@ void saveSession(const Session& s, const std::filesystem::path& file) {
   root["settings"] = settingsJson(s.settings);
   root["edits"] = std::move(edits);
   root["inputs"] = std::move(inputs);
-  std::ofstream out(file, std::ios::binary);
-  if (!out) fail(file.string(), "", "a writable file");
   // nlohmann writes doubles with max_digits10 (round-trip exact).
   out << root.dump() << "\n";
-  if (!out) fail(file.string(), "", "a writable file (write failed)");
 }
 
 Session loadSession(const std::filesystem::path& file) {
   const Json json = detail::readJsonFile(file);
   const std::string fileName = file.string();
   const Node root(json, "", fileName);
-  root.requireObject();
-  const Node format = root.get("format");
-  if (format.string() != "vaw-session") format.fail("\"vaw-session\"");
+  root.requireFormat("vaw-session");
   const Node version = root.get("version");
   const int v = version.integer();
   if (v < 1 || v > kSessionFormatVersion)
@@ -413,7 +455,9 @@ Session loadSession(const std::filesystem::path& file) {
   else root.allowOnly({"format", "version", "scene", "settings", "inputs"});
   Session s;
   s.file = file;
-  s.scene = root.get("scene").string();
+  const Node scene = root.get("scene");
+  s.scene = scene.string();
+  if (s.scene.empty() || s.scene.size() > 4096) scene.fail("a scene file name of 1 to 4096 characters");
   if (auto h = root.opt("scene_hash")) {
     const std::string text = h->string();
     char* end = nullptr;
@@ -424,6 +468,7 @@ Session loadSession(const std::filesystem::path& file) {
   s.settings = settingsFrom(root.get("settings"));
   const Node inputs = root.get("inputs");
   inputs.requireArray();
+  if (inputs.size() > limits::kMaxSteps) inputs.fail("at most " + std::to_string(limits::kMaxSteps) + " steps");
   s.inputs.reserve(inputs.size());
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     const Node n = inputs.at(i);
@@ -440,6 +485,18 @@ Session loadSession(const std::filesystem::path& file) {
     hand("right", in.right);
     if (auto b = n.opt("base")) in.base = poseFrom(*b);
     if (required || n.has("hoist")) in.hoist = hoistFrom(n.get("hoist"));
+    // Step to step, nothing moves faster than a hand can (the scripts' bound, at the session's rate).
+    if (!s.inputs.empty()) {
+      const Input& prev = s.inputs.back();
+      const double rate = s.settings.rate;
+      const auto tooFast = [rate](const Eigen::Vector3d& a, const Eigen::Vector3d& b) { return (b - a).norm() * rate > limits::kMaxSpeed; };
+      const char* moved = tooFast(prev.left.pose.translation(), in.left.pose.translation())     ? "left"
+                          : tooFast(prev.right.pose.translation(), in.right.pose.translation()) ? "right"
+                          : prev.base && in.base && tooFast(prev.base->translation(), in.base->translation()) ? "base"
+                          : tooFast({0, 0, prev.hoist.height}, {0, 0, in.hoist.height})        ? "hoist"
+                                                                                                : nullptr;
+      if (moved) n.get(moved).fail("a pose reached from the previous step at up to 100 m/s");
+    }
     s.inputs.push_back(in);
   }
   if (auto edits = root.opt("edits")) {
@@ -493,41 +550,58 @@ void appendTrajectory(const World& w, std::vector<TrajectoryRow>& rows) {
   }
 }
 
+void appendTrajectoryCsv(const World& w, const TrajectoryRow& r, std::string& out) {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%llu,%.17g,", static_cast<unsigned long long>(r.step), r.t);
+  out += buf;
+  out += csvEscape(w.assembly().parts[r.part].name);
+  std::snprintf(buf, sizeof buf, ",%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n", std::string(interact::name(r.state)).c_str(),
+                r.position.x(), r.position.y(), r.position.z(), r.orientation.w(), r.orientation.x(), r.orientation.y(),
+                r.orientation.z());
+  out += buf;
+}
+
 void writeTrajectoriesCsv(const World& w, const std::vector<TrajectoryRow>& rows, const std::filesystem::path& file) {
-  std::ofstream out(file, std::ios::binary);
-  if (!out) fail(file.string(), "", "a writable file");
-  out << "step,t,part,state,x,y,z,qw,qx,qy,qz\n";
-  char buf[512];
+  AtomicFile out(file);
+  out << kTrajectoriesCsvHeader;
+  std::string line;
   for (const TrajectoryRow& r : rows) {
-    std::snprintf(buf, sizeof buf, "%llu,%.17g,%s,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
-                  static_cast<unsigned long long>(r.step), r.t, csvEscape(w.assembly().parts[r.part].name).c_str(),
-                  std::string(interact::name(r.state)).c_str(), r.position.x(), r.position.y(), r.position.z(),
-                  r.orientation.w(), r.orientation.x(), r.orientation.y(), r.orientation.z());
-    out << buf;
+    line.clear();
+    appendTrajectoryCsv(w, r, line);
+    out << line;
   }
+  out.commit();
 }
 
 void writeTransitionsCsv(const World& w, const std::filesystem::path& file) {
   writeTransitionsCsv(w.assembly(), w.transitions(), w.refusals(), file);
 }
 
+void writeTransitionsCsv(const World& w, AtomicFile& out) {
+  writeTransitionsCsv(w.assembly(), w.transitions(), w.refusals(), out);
+}
+
 void writeTransitionsCsv(const Assembly& assembly, const std::vector<TransitionRecord>& transitions,
                          const std::vector<Refusal>& refusals, const std::filesystem::path& file) {
-  std::ofstream out(file, std::ios::binary);
-  if (!out) fail(file.string(), "", "a writable file");
+  AtomicFile out(file);
+  writeTransitionsCsv(assembly, transitions, refusals, out);
+  out.commit();
+}
+
+void writeTransitionsCsv(const Assembly& assembly, const std::vector<TransitionRecord>& transitions,
+                         const std::vector<Refusal>& refusals, AtomicFile& out) {
   out << "step,t,part,from,to,event,cause\n";
   char buf[128];
   for (const TransitionRecord& r : transitions) {
     std::snprintf(buf, sizeof buf, "%llu,%.17g,", static_cast<unsigned long long>(r.step), r.t);
-    out << buf << csvEscape(assembly.parts[r.part].name) << ',' << interact::name(r.from) << ','
-        << interact::name(r.to) << ',' << interact::name(r.event) << ',' << csvEscape(r.cause) << '\n';
+    out << buf << csvEscape(assembly.parts[r.part].name) << "," << interact::name(r.from) << ","
+        << interact::name(r.to) << "," << interact::name(r.event) << "," << csvEscape(r.cause) << "\n";
   }
   for (const Refusal& r : refusals) {
     std::snprintf(buf, sizeof buf, "%llu,%.17g,", static_cast<unsigned long long>(r.step), r.t);
-    out << buf << csvEscape(assembly.parts[r.part].name) << ',' << interact::name(r.state) << ",REFUSED,"
-        << interact::name(r.event) << ',' << csvEscape(r.reason) << '\n';
+    out << buf << csvEscape(assembly.parts[r.part].name) << "," << interact::name(r.state) << ",REFUSED,"
+        << interact::name(r.event) << "," << csvEscape(r.reason) << "\n";
   }
-  if (!out) fail(file.string(), "", "a writable file (write failed)");
 }
 
 }  // namespace vaw::sim

@@ -20,7 +20,8 @@ Settings settingsFor(const Assembly& assembly) {
   if (in.freeFlightScale) s.gravity.freeFlight = *in.freeFlightScale;
   if (in.slideScale) s.gravity.slide = *in.slideScale;
   if (in.rotationScale) s.gravity.rotation = *in.rotationScale;
-  if (in.rotationMethod) dyn::parseMethod(*in.rotationMethod, s.rotationMethod);
+  if (in.rotationMethod)
+    if (const auto m = dyn::parseMethod(*in.rotationMethod, dyn::Hinge::kMethods)) s.rotationMethod = *m;
   return s;
 }
 
@@ -46,6 +47,7 @@ World::Impl::Impl(std::shared_ptr<const Scene> s, Settings st)
   parts.resize(assembly.parts.size());
   models.resize(assembly.parts.size());
   dirty.assign(assembly.parts.size(), 0);
+  ownMoves.assign(assembly.parts.size(), 0);
   for (std::size_t i = 0; i < parts.size(); ++i) {
     parts[i].id = i;
     parts[i].pose = assembly.parts[i].pose;
@@ -86,6 +88,10 @@ bool World::Impl::fireEvent(PartId id, Event e, interact::Hands hands, const std
 }
 
 void World::Impl::setPose(PartId id, const Eigen::Isometry3d& pose) {
+  if (!(pose.matrix() == parts[id].pose.matrix())) {
+    ++moves;
+    ++ownMoves[id];
+  }
   parts[id].pose = pose;
   if (!dirty[id]) {
     dirty[id] = 1;
@@ -108,7 +114,9 @@ void World::Impl::flush(std::optional<PartId> except) {
 }
 
 void World::Impl::moveBase(const std::optional<Eigen::Isometry3d>& pose) {
-  if (pose && base) {
+  // A base held still costs nothing: the broad phase's update is O(all objects) in FCL 0.7.
+  if (pose && base && !(pose->matrix() == basePose.matrix())) {
+    ++moves;
     basePose = *pose;
     parts[*base].pose = basePose;
     collision.setPose(collision::ObjectId::part(*base), basePose);
@@ -131,7 +139,11 @@ std::string World::Impl::tiltCause(const Eigen::Vector3d& surfaceNormalWorld) co
 Eigen::Isometry3d World::Impl::inBaseOf(PartId id, double angle, double slide, const Eigen::Vector2d& p) const {
   const PartRuntime& r = parts[id];
   const PartModel& m = models[id];
-  if (r.model == Model::Cylindrical && m.hinge) return m.hinge->partInBase(angle, slide);
+  if (r.model == Model::Cylindrical && m.hinge) {
+    Eigen::Isometry3d pose = m.hinge->partInBase(angle, slide);
+    pose.pretranslate(m.play);
+    return pose;
+  }
   if (r.model == Model::Plane) {
     Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
     shift.translation() = m.e1b * p.x() + m.e2b * p.y();

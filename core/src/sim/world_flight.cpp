@@ -32,7 +32,7 @@ void World::Impl::enterFlight(PartId id, const Eigen::Vector3d& v, const Eigen::
   double flight = std::isfinite(zHit) ? dyn::timeToHeight(m.release, m.gFree, zHit) : 2.0;
   if (!std::isfinite(flight)) flight = 2.0;
   const dyn::RotationChoice choice =
-      dyn::chooseRotationModel(m.release, d.mass.inertiaCm, flight, settings.rotationModelTolerance * kDeg);
+      dyn::chooseRotationModel(m.release, d.mass.inertiaCm, flight, h(), settings.rotationModelTolerance * kDeg);
   m.rotation = choice.model;
   m.torqueFree.reset();
   if (m.rotation == dyn::RotationModel::TorqueFree) m.torqueFree.emplace(m.release, d.mass.inertiaCm);

@@ -11,6 +11,7 @@
 // derived from the state (the collision world's poses, the list of awake parts) and rebuilt on restore.
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <limits>
 #include <map>
@@ -47,6 +48,8 @@ struct PartModel {
   Eigen::Isometry3d offset = Eigen::Isometry3d::Identity();  // holder frame -> part (hand, hoist)
   Eigen::Isometry3d inBase = Eigen::Isometry3d::Identity();  // part in base frame (PLACED, model reference)
   std::optional<dyn::Hinge> hinge;                           // cylindrical
+  double clearance = 0.0;                                    // m, radial play of the fit (cylindrical)
+  Eigen::Vector3d play = Eigen::Vector3d::Zero();            // base frame: where the play puts the part
   Eigen::Vector3d nb = Eigen::Vector3d::UnitZ(), e1b = Eigen::Vector3d::UnitX(), e2b = Eigen::Vector3d::UnitY();
   double radius = 0.0;                                       // largest distance from the axis (or CM)
   Eigen::Vector3d blockedDir = Eigen::Vector3d::Zero();     // base frame: the way it was last blocked
@@ -56,6 +59,16 @@ struct PartModel {
   Eigen::Vector3d gFree = Eigen::Vector3d::Zero();
   dyn::RotationModel rotation = dyn::RotationModel::ConstantOmega;
   std::optional<dyn::TorqueFree> torqueFree;
+  // The motions on the base that can meet nothing (collision::FreeMotion), found at `slide` / `planeP` and
+  // valid while the base keeps the pose `base` and no other object moves (`others`, Snapshot::State::moves).
+  struct Free {
+    bool valid = false;
+    std::uint64_t others = 0;
+    Eigen::Matrix4d base = Eigen::Matrix4d::Identity();
+    double slide = 0.0;
+    Eigen::Vector2d planeP = Eigen::Vector2d::Zero();
+    collision::FreeMotion motion;
+  } free;
 };
 
 // The logs are append-only. A snapshot seals what was appended since the last one into a chunk that
@@ -90,6 +103,10 @@ struct Snapshot::State {
   std::uint64_t rateStep = 0;
   double rateTime = 0.0;
   std::size_t active = 0;
+  // Pose changes, of all parts and per part: a part's free motion stays valid while every change since it
+  // was found is its own. State, so that a restored world reuses a free motion exactly when the original did.
+  std::uint64_t moves = 0;
+  std::vector<std::uint64_t> ownMoves;
   // The logs: sealed chunks up to the last snapshot, and how much of the live logs they hold.
   std::shared_ptr<const LogChunk> sealed;
   std::size_t sealedTransitions = 0, sealedRefusals = 0, sealedEdits = 0;
@@ -176,6 +193,7 @@ struct World::Impl : Snapshot::State {
   std::optional<Recognition> recognize(PartId id);
   bool atFinalPose(PartId id, Eigen::Isometry3d& snapped) const;
   void enterOnBase(PartId id, std::size_t ci);
+  void updatePlay(PartId id);
   [[nodiscard]] double torqueEps(PartId id) const {
     return 1e-6 * def(id).mass.mass * kStandardGravity * std::max(settings.gravity.rotation, 1e-12);
   }

@@ -2,6 +2,8 @@
 // on-base models: the slide on a plane, the slide and rotation on an axis (ONBASESLIDE), with the touching
 // and blocked checks along each step's motion, and the start test of a part at rest (ONBASESTATIC).
 #include <algorithm>
+#include <cstdint>
+#include <utility>
 
 #include "vaw/collision/time_of_impact.hpp"
 #include "world_impl.hpp"
@@ -26,7 +28,47 @@ Eigen::Isometry3d turnAbout(const Eigen::Isometry3d& pose, const Eigen::Vector3d
   return out;
 }
 
+// The fraction of a step's straight path (in the model's coordinates, from (s0, p0) to (s1, p1)) that stays
+// inside the free motion, from its start: 1 when all of it does, 0 when its start is outside; and what
+// bounds the free motion where the path leaves it.
+using Bound = collision::FreeMotion::Bound;
+std::pair<double, Bound> freeFraction(const PartModel::Free& f, Model model, double s0, double s1,
+                                      const Eigen::Vector2d& p0, const Eigen::Vector2d& p1) {
+  const collision::FreeMotion& fm = f.motion;
+  if (model == Model::Cylindrical) {
+    const double d0 = s0 - f.slide, d1 = s1 - f.slide;
+    if (!(d0 >= fm.axialMin && d0 <= fm.axialMax)) return {0.0, Bound::Conservative};
+    if (d1 >= fm.axialMin && d1 <= fm.axialMax) return {1.0, Bound::Conservative};
+    const bool up = d1 > fm.axialMax;
+    return {((up ? fm.axialMax : fm.axialMin) - d0) / (d1 - d0), up ? fm.atMax : fm.atMin};
+  }
+  // Plane: the path from q0 to q1 leaves the disc of the free radius where |q0 + x (q1 - q0)| = radius.
+  const Eigen::Vector2d q0 = p0 - f.planeP, dq = p1 - p0;
+  const double r2 = fm.radius * fm.radius;
+  if (!(q0.squaredNorm() < r2)) return {0.0, Bound::Conservative};
+  if ((q0 + dq).squaredNorm() < r2) return {1.0, Bound::Conservative};
+  const double a = dq.squaredNorm(), b = q0.dot(dq), c = q0.squaredNorm() - r2;
+  return {std::clamp((-b + std::sqrt(b * b - a * c)) / a, 0.0, 1.0), fm.atMax};
+}
+
 }  // namespace
+
+// A bore with clearance rests on the side of its shaft that gravity pulls it to: its axis lies `clearance`
+// off the shaft's, along gravity's part across the axis (base frame). The slide's normal force is that same
+// part of gravity (dyn::splitGravity), so the friction is the contact's. With gravity along the axis there
+// is no such side, and the part stays where it was.
+void World::Impl::updatePlay(PartId id) {
+  PartModel& m = models[id];
+  if (m.clearance <= 0.0 || !m.hinge) {
+    m.play.setZero();
+    return;
+  }
+  const Eigen::Vector3d u = m.hinge->axisInBase();
+  Eigen::Vector3d g = basePose.linear().transpose() * gravity(settings.gravity.slide);
+  g -= u * u.dot(g);
+  if (g.norm() <= 1e-9 * kStandardGravity) return;
+  m.play = g.normalized() * m.clearance;
+}
 
 std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
   if (!base) return std::nullopt;
@@ -96,14 +138,21 @@ void World::Impl::enterOnBase(PartId id, std::size_t ci) {
   m.sliding = false;
   m.blockedDir.setZero();
   m.blockedRot = 0.0;
+  m.free.valid = false;
   m.inBase = basePose.inverse() * r.pose;
   if (c.type == Constraint::Type::Insert) {
     m.hinge = dyn::Hinge::make(c.baseAxis.point, c.baseAxis.direction, m.inBase, d.mass.mass, d.mass.centerOfMass,
                                d.mass.inertiaCm, friction(id).rotationalFriction);
     r.model = m.hinge ? Model::Cylindrical : Model::None;
     m.radius = collision.maxRadius(collision::ObjectId::part(id), c.partAxis);
+    m.clearance = scene->support(ci).clearance;
+    m.play.setZero();
+    updatePlay(id);
+    setPose(id, basePose * currentInBase(id));
   } else {
     m.hinge.reset();
+    m.clearance = 0.0;
+    m.play.setZero();
     r.model = Model::Plane;
     const dyn::PlaneSlideInput in = dyn::planeInWorld(c.basePlane.normal, Eigen::Isometry3d::Identity(), Eigen::Vector3d::Zero());
     m.nb = in.n;
@@ -117,6 +166,7 @@ void World::Impl::stepOnBase(PartId id) {
   flush(id);
   PartRuntime& r = parts[id];
   PartModel& m = models[id];
+  updatePlay(id);
   const dyn::Friction fr = slideFriction(id);
   const collision::Support& sup = scene->support(*r.constraint);
   const Eigen::Isometry3d B = basePose;
@@ -158,14 +208,38 @@ void World::Impl::stepOnBase(PartId id) {
   ev.kind = collision::EventKind::None;
   ev.s = 1.0;
   if (travel > 1e-12) {
-    collision::Motion motion;
-    motion.s0 = 0.0;
-    motion.s1 = 1.0;
-    motion.speedBound = travel;
-    motion.pose = [this, id, B, a0, a1, s0, s1, p0, p1](double x) {
-      return B * inBaseOf(id, a0 + x * (a1 - a0), s0 + x * (s1 - s0), p0 + x * (p1 - p0));
-    };
-    ev = collision::firstEventOnBase(collision, sup, motion);
+    // Along the part of the step that stays inside the free motion found around an earlier pose nothing
+    // can happen; only the rest is searched, starting where it leaves it (docs/collision.md, "Free motion").
+    const std::uint64_t others = moves - ownMoves[id];
+    if (!m.free.valid || m.free.others != others || !(m.free.base == B.matrix())) {
+      m.free.motion = collision.freeMotion(sup, B * inBaseOf(id, a0, s0, p0));
+      m.free.valid = true;
+      m.free.others = others;
+      m.free.base = B.matrix();
+      m.free.slide = s0;
+      m.free.planeP = p0;
+    }
+    const auto [inside, bound] = freeFraction(m.free, r.model, s0, s1, p0, p1);
+    if (inside < 1.0) {
+      collision::Motion motion;
+      motion.s0 = inside;
+      motion.s1 = 1.0;
+      motion.speedBound = travel;
+      motion.pose = [this, id, B, a0, a1, s0, s1, p0, p1](double x) {
+        return B * inBaseOf(id, a0 + x * (a1 - a0), s0 + x * (s1 - s0), p0 + x * (p1 - p0));
+      };
+      collision::ToiOptions options;
+      options.startFree = inside > 0.0;
+      // Where an obstacle bounds the free motion, it ends half a tolerance inside it: a first sample one
+      // tolerance farther is blocked by a face-on contact, and brackets the event to the tolerance without
+      // bisection; the part is left where the free motion ends, half a tolerance inside the allowance, not
+      // on it, where rounding would decide whether it is blocked where it rests. Where the touch ends it,
+      // touch is lost within two tolerances.
+      if (bound == Bound::Obstacle) options.firstStep = options.tolerance;
+      if (bound == Bound::Touch) options.firstStep = 2.0 * options.tolerance;
+      ev = collision::firstEventOnBase(collision, sup, motion, options);
+      m.free.valid = false;  // found again around the next step's start
+    }
   }
   const double x = ev.kind == collision::EventKind::None ? 1.0 : ev.s;
   r.angle = a0 + x * (a1 - a0);
@@ -179,7 +253,7 @@ void World::Impl::stepOnBase(PartId id) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
   if (r.model == Model::Cylindrical) {
     const Eigen::Vector3d u = B.linear() * m.hinge->axisInBase();
-    const Eigen::Vector3d arm = comWorld(id) - B * assembly.constraints[*r.constraint].baseAxis.point;
+    const Eigen::Vector3d arm = comWorld(id) - B * Eigen::Vector3d(assembly.constraints[*r.constraint].baseAxis.point + m.play);
     w = u * r.omega;
     v = u * r.slideRate + w.cross(arm - u * u.dot(arm));
   } else {
@@ -233,6 +307,7 @@ void World::Impl::leaveBase(PartId id, const Eigen::Vector3d& v, const std::stri
 void World::Impl::checkStart(PartId id) {
   PartRuntime& r = parts[id];
   PartModel& m = models[id];
+  updatePlay(id);
   setPose(id, basePose * currentInBase(id));
   if (r.model == Model::None || !r.constraint) return;
   const dyn::Friction fr = slideFriction(id);

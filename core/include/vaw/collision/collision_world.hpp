@@ -1,5 +1,5 @@
 #pragma once
-// Collision checks for the workbench (PHYSICS.md section 5, the paper's section 6), on FCL. FCL stays
+// Collision checks for the workbench (docs/physics.md, "Collision checks on the base"; the paper's section 6), on FCL. FCL stays
 // inside the implementation: nothing here names an FCL type.
 //
 // A CollisionWorld is built once from an Assembly: one bounding-volume hierarchy per part mesh (meshes are
@@ -13,6 +13,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "vaw/assembly.hpp"
@@ -44,7 +45,9 @@ std::string_view name(FilterMode m);
 struct Tolerances {
   double distance = 1e-5;  // m: coplanar gap; touching; penetration below which a pair only touches
   double angle = 1e-3;     // rad: parallel normals, parallel axes
-  double radius = 5e-5;    // m: two cylinders have equal diameters (SKIP_COAXIAL)
+  // m: two cylinders have equal diameters (SKIP_COAXIAL); a bore smaller than its shaft by no more than
+  // this still fits (with clearance 0), beyond it is interference.
+  double radius = 5e-5;
 };
 
 // What an object collides as (its "collision proxy"), chosen per object and shown in the scene tree.
@@ -62,6 +65,10 @@ struct ObjectInfo {
   double buildSeconds = 0.0;        // bounding-volume hierarchy and surface patches
   std::size_t planarPatches = 0;
   std::size_t cylindricalPatches = 0;
+  // Parts: how each of its mate and insert constraints meets the base, for people (describeFit), e.g.
+  // "insert: the part's bore (r = 15.05 mm) on the base's shaft (r = 15 mm), clearance 0.05 mm"; empty
+  // for a part without constraints.
+  std::string fit;
 };
 
 struct Contact {
@@ -115,6 +122,14 @@ struct Support {
   Axis partAxis{}, baseAxis{};     // Axis: in each one's own frame
   std::vector<int> partPatches;    // planar (Plane) or cylindrical (Axis) patch indices of the part
   std::vector<int> basePatches;    // of the base
+  // Axis: the bore-and-shaft pairs of the fit (part cylinder, base cylinder), the tightest pairs on the
+  // axis that are not interference, and their radial clearance, bore radius minus shaft radius (m, >= 0:
+  // a bore smaller by no more than Tolerances::radius counts as 0). The part rests in its play on the
+  // side gravity pulls it to; its axis may lie up to `clearance` off the base's.
+  std::vector<std::pair<int, int>> fitPairs;
+  double clearance = 0.0;
+  double partRadius = 0.0, baseRadius = 0.0;  // m, the tightest pair's cylinders
+  bool partIsBore = true;                     // a sleeve on a shaft; false: a pin in a hole
   std::string problem;
   // Precomputed once with the support (a few ms for a 250k-triangle base): which parts of the two
   // hierarchies the blocked check can skip while the part rests on the surface (docs/collision.md).
@@ -134,6 +149,25 @@ struct TouchResult {
   std::string reason;        // when not touching
 };
 
+// Around a part resting on its support, the motions of its reduced model that can meet nothing: along
+// them the part is neither blocked nor loses touch (docs/collision.md, "Free motion"). Found from what the
+// support precomputes (the base's faces near the part's path, the fit's spans, the support face's outline)
+// and the boxes of the other objects the path reaches, without a mesh query, so the world need not sample
+// the two checks along a step that stays inside it.
+struct FreeMotion {
+  // Axis: any slide along the base's axis by d in [axialMin, axialMax] (m, from the pose asked about),
+  // with any turn about the part's own axis. Plane: any slide in the base's plane shorter than `radius`.
+  // Zero when nothing is known free (the part is near an obstacle or an edge, or off its support).
+  double axialMin = 0.0, axialMax = 0.0;
+  double radius = 0.0;
+  // What ends it there: the span of an obstacle's face (met face-on, the part is blocked within a tolerance
+  // beyond; a span is a bound, so it may also be met later or passed), the end of the touch (lost within
+  // two tolerances beyond), or a conservative bound. A search beyond an obstacle or the touch's end looks
+  // first just beyond it. The plane's radius uses `atMax`.
+  enum class Bound : std::uint8_t { Conservative, Obstacle, Touch };
+  Bound atMin = Bound::Conservative, atMax = Bound::Conservative;
+};
+
 struct BlockResult {
   bool blocked = false;
   std::vector<Contact> contacts;  // the blocking pairs found (penetration beyond their allowance)
@@ -141,6 +175,24 @@ struct BlockResult {
   std::size_t boundingVolumeTests = 0;  // cost, summed over the objects tested
   std::size_t leafTests = 0;
 };
+
+// The constraint's surfaces matched to the patches of the part's and the base's meshes, without the
+// blocked check's cache: what CollisionWorld::support starts from, usable without building hierarchies.
+// Null patches (no mesh) give a Support with a problem.
+Support matchSupport(const Constraint& constraint, PartId base, const SurfacePatches* partPatches,
+                     const SurfacePatches* basePatches, const Tolerances& tolerances = {});
+// One line for people: "insert: the part's bore (r = 15.05 mm) on the base's shaft (r = 15 mm), clearance
+// 0.05 mm", "mate: 1 face of the part on 1 face of the base", or the constraint's problem.
+std::string describeFit(const Support& support);
+
+// Every constraint of an assembly matched and described (vaw-sim inspect): surface patches of the parts
+// involved only, no hierarchy, so inspecting a large mesh costs no collision build.
+struct ConstraintFit {
+  std::size_t constraint = 0;  // index into Assembly::constraints
+  Support support;
+  std::string text;  // describeFit
+};
+std::vector<ConstraintFit> constraintFits(const Assembly& assembly, const Tolerances& tolerances = {});
 
 class CollisionWorld {
  public:
@@ -207,6 +259,9 @@ class CollisionWorld {
   // Anything at all in the way of an object at a pose (free flight): NOCARE against every reachable object;
   // touching-only pairs are ignored unless `countTouching`.
   [[nodiscard]] BlockResult colliding(ObjectId id, const Eigen::Isometry3d& pose, bool countTouching = false) const;
+  // The motions free of events around the part at `partPose` on its support (FreeMotion). Costs a broad-phase
+  // query and a pass over the support's few precomputed obstacles, no mesh query.
+  [[nodiscard]] FreeMotion freeMotion(const Support& s, const Eigen::Isometry3d& partPose) const;
 
   // The first surface a ray from `origin` along the unit `direction` meets within `length` (m), skipping
   // `except`: where and what. Exact for meshes (the triangles found by the hierarchy are intersected with

@@ -1,8 +1,8 @@
 #pragma once
 // Where along one step's motion a part first meets something (docs/collision.md, "Time of impact").
 // A motion is the part's own reduced coordinate s mapped to a pose, with a bound on how fast any point of
-// the part moves per unit of s. FCL's continuous collision is not used (TOOLCHAIN.md: it misses obvious
-// pass-throughs); instead:
+// the part moves per unit of s. FCL's continuous collision is not used (in FCL 0.7 it misses
+// obvious pass-throughs); instead:
 // - free flight: conservative advancement on the distance to everything reachable (never steps past a
 //   contact, so no tunnelling whatever the speed), stopping within `tolerance` of the first contact;
 // - on the base: the blocked and touching checks sampled so that no point of the part moves more than
@@ -45,6 +45,11 @@ struct ToiOptions {
   double tolerance = 1e-5;  // m: the reported contact lies within this distance (along the motion) of the true one
   double maxStep = 1e-3;    // m: on the base, no point moves more than this between two samples
   int maxIterations = 10000;
+  // On the base: the motion's start is known free and touching (FreeMotion), so it is not checked again.
+  bool startFree = false;
+  // On the base: the first sample after the start this far along (m of motion of any point), when an
+  // event is expected just beyond the start (an obstacle bounds a FreeMotion there); 0: maxStep.
+  double firstStep = 0.0;
 };
 
 enum class EventKind { None, Blocked, LostTouch, Contact };
@@ -57,7 +62,7 @@ struct MotionEvent {
   // First parameter at which the event holds; (sEvent - s) * speedBound <= tolerance.
   double sEvent = 0.0;
   std::optional<ObjectId> other;  // what blocked or was hit
-  std::vector<Contact> contacts;  // at sEvent (Blocked)
+  std::vector<Contact> contacts;  // at sEvent (Blocked): the blocking pairs found there, at least one
   TouchResult touch;              // at sEvent (LostTouch)
   double distance = 0.0;          // m, gap left at s (Contact)
   int evaluations = 0;            // checks or distance queries run

@@ -8,7 +8,7 @@ namespace vaw::dyn {
 // World gravity: z is up (docs/scene-format.md).
 inline Eigen::Vector3d worldGravity() { return {0.0, 0.0, -kStandardGravity}; }
 
-// Gravity scale per motion kind (PHYSICS.md section 8): the paper found 0.2-0.3 right for free flight
+// Gravity scale per motion kind (docs/physics.md, "Gravity scale"): the paper found 0.2-0.3 right for free flight
 // in a headset and no scaling for rotation on the base.
 struct GravityScales {
   double freeFlight = 0.25;

@@ -1,8 +1,10 @@
 #pragma once
-// Rotation about an axis of any direction (PHYSICS.md section 4, with the paper's errata): gravity torque
-// projected on the axis, J from the inertia tensor and the parallel-axis theorem, viscous friction f_r.
-// The cylindrical case (paper picture 10) adds a slide along the same axis (slide.hpp).
+// Rotation about an axis of any direction (docs/physics.md, "Rotation about an axis", with the paper's
+// errata): gravity torque projected on the axis, J from the inertia tensor and the parallel-axis theorem,
+// viscous friction f_r. The cylindrical case (paper picture 10) adds a slide along the same axis
+// (slide.hpp).
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 
 #include "vaw/dynamics/integrators.hpp"
@@ -24,6 +26,10 @@ struct HingeTorque {
 
 class Hinge {
  public:
+  // Every method but Exact: the torque depends on the angle, so the acceleration is not constant
+  // within a step and the constant-acceleration closed form does not exist.
+  static constexpr std::array kMethods{Method::PaperExplicit, Method::SemiImplicitEuler, Method::VelocityVerlet, Method::RK4};
+
   // axisPoint, axisDirection: the axis in the base's frame. partInBase: the part frame relative to the
   // base frame at release. com, inertiaCm: in the part frame. A zero-length axis gives nothing.
   static std::optional<Hinge> make(const Eigen::Vector3d& axisPoint, const Eigen::Vector3d& axisDirection,
@@ -45,7 +51,7 @@ class Hinge {
   // Kinetic plus gravitational potential energy (J), for drift measurements.
   [[nodiscard]] double energy(const HingeTorque& t, const HingeState& s) const;
 
-  // Method::Exact is not available for a rotation (the torque depends on the angle); it is refused.
+  // m must be one of kMethods (checked where the method is chosen: the settings parsers).
   void step(HingeState& s, const HingeTorque& t, double h, Method m) const;
 
   // The part frame relative to the base after rotating by `angle` and sliding by `slide` along the axis.

@@ -1,13 +1,18 @@
 #pragma once
-// Sliding on the base with Coulomb friction (PHYSICS.md section 3, with its corrections to the paper):
+// Sliding on the base with Coulomb friction (docs/physics.md, "Sliding", with its corrections to the paper):
 // 1-D along an axis (or the line of two planes) and 2-D on a plane. The constraint geometry is given
 // in world coordinates for the current step, recomputed by the caller from the (possibly moving) base.
 #include <Eigen/Geometry>
+#include <array>
 #include <optional>
 
 #include "vaw/dynamics/integrators.hpp"
 
 namespace vaw::dyn {
+
+// Every method: the acceleration is constant between the events a step locates, so Exact is the
+// closed form (on a plane only while the velocity is parallel to the slope; otherwise the paper's scheme).
+inline constexpr std::array kSlideMethods = kAllMethods;
 
 struct Friction {
   double fs = 0.3;  // static coefficient

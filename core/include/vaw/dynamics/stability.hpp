@@ -1,5 +1,5 @@
 #pragma once
-// Where explicit methods fail (PHYSICS.md section 4): for the linearized oscillator
+// Where explicit methods fail (docs/physics.md, "Stability limits"): for the linearized oscillator
 // x'' = -wn^2 x - c x' one step of a method is a 2x2 linear map; the method is stable when that map's
 // spectral radius is at most 1. The workbench calls checkStability before stepping a part so it can
 // warn before the part explodes.

@@ -1,7 +1,8 @@
 #pragma once
-// Work-precision measurements (PHYSICS.md section 4): for each scenario, each method and each step
+// Work-precision measurements (docs/work-precision.md): for each scenario, each method and each step
 // size, the CPU time per simulated second and the error against a reference solution. vaw-sim's
 // `work-precision` command writes them as CSV and charts them.
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -28,7 +29,7 @@ struct SlideScenario {
 };
 
 struct PendulumScenario {
-  // PHYSICS.md's paper-like gear: solid disk r = 0.05 m, m = 0.3 kg, CM 0.02 m off the axis.
+  // The paper-like gear (docs/physics.md): solid disk r = 0.05 m, m = 0.3 kg, CM 0.02 m off the axis.
   double radius = 0.05, mass = 0.3, arm = 0.02;
   double fr = 0.0;                  // N m s
   double theta0Deg = 60.0;          // released from rest, measured from the bottom
@@ -37,11 +38,15 @@ struct PendulumScenario {
 };
 
 struct TumbleScenario {
-  double size[3] = {0.2, 0.1, 0.05};  // steel block
+  std::string name = "tumbling-block";
+  double size[3] = {0.2, 0.1, 0.05};  // steel block: principal moments along x < y < z
   double density = 7850;
   double omega[3] = {3.0, 1.0, 5.0};  // rad/s, body = world at release
   double duration = 2.0;
 };
+// The tennis-racket flip: the same block spun about its intermediate axis (y) with a small part along
+// the unstable direction; it turns over after 1.7 s.
+inline TumbleScenario tennisRacketScenario() { return {"tennis-racket", {0.2, 0.1, 0.05}, 7850, {0.02, 6.0, -0.02}, 3.0}; }
 
 // Analytic / reference solutions at the sample times.
 Samples slideReference(const SlideScenario& s);          // closed form with the exact stop, m along the slope

@@ -1,5 +1,5 @@
 #pragma once
-// The velocity a part has when the hand lets go (PHYSICS.md section 2). The paper differences the two
+// The velocity a part has when the hand lets go (docs/physics.md, "Free flight"). The paper differences the two
 // most recent poses; tracked hands jitter, so a least-squares fit over a short window is the usual fix.
 #include <Eigen/Geometry>
 #include <span>

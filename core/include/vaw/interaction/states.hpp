@@ -1,5 +1,5 @@
 #pragma once
-// Part states and the transitions between them (PHYSICS.md section 6; the paper's figure 6 is lost).
+// Part states and the transitions between them (docs/physics.md, "Part states"; the paper's figure 6 is lost).
 // One table of (state, event, guard) -> state is the single source of truth: the world fires events
 // through it, `vaw-sim states` prints it, and docs/states.dot is generated from it. An event with no
 // row, or whose guard refuses, returns the reason; nothing is silently ignored.

@@ -2,14 +2,17 @@
 // Record and replay: a session holds the scene reference (its path and content hash), the settings, every
 // step's input and every live edit with the step it took effect at, so a fresh World fed the same inputs
 // and edits reproduces every state and transition bit for bit (docs/inputs-format.md). Also the input
-// script (keyframes sampled at the step rate) and the CSV exports.
+// script (keyframes sampled at the step rate) and the CSV exports. Every file is written through
+// vaw::AtomicFile: a failed or interrupted write leaves the previous file.
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "vaw/atomic_file.hpp"
 #include "vaw/sim/world.hpp"
 
 namespace vaw::sim {
@@ -34,6 +37,7 @@ std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& 
 
 // JSON with doubles written for an exact round trip.
 void saveSession(const Session& s, const std::filesystem::path& file);
+void saveSession(const Session& s, AtomicFile& out);  // into a file the caller commits
 Session loadSession(const std::filesystem::path& file);
 
 // One row per part per step, written after each step.
@@ -59,10 +63,17 @@ std::size_t applyEdits(World& w, const Session& s, std::size_t next);
 World replay(std::shared_ptr<const Scene> scene, const Session& s, const std::function<void(const World&)>& afterStep = {});
 
 void appendTrajectory(const World& w, std::vector<TrajectoryRow>& rows);
+// The trajectories CSV: its header, and one row as text (for writers that stream a long run).
+inline constexpr std::string_view kTrajectoriesCsvHeader = "step,t,part,state,x,y,z,qw,qx,qy,qz\n";
+void appendTrajectoryCsv(const World& w, const TrajectoryRow& row, std::string& out);
 void writeTrajectoriesCsv(const World& w, const std::vector<TrajectoryRow>& rows, const std::filesystem::path& file);
 void writeTransitionsCsv(const World& w, const std::filesystem::path& file);
 // The same columns from logs kept elsewhere (a recording's whole timeline).
 void writeTransitionsCsv(const Assembly& assembly, const std::vector<TransitionRecord>& transitions,
                          const std::vector<Refusal>& refusals, const std::filesystem::path& file);
+// Into a file the caller commits.
+void writeTransitionsCsv(const World& w, AtomicFile& out);
+void writeTransitionsCsv(const Assembly& assembly, const std::vector<TransitionRecord>& transitions,
+                         const std::vector<Refusal>& refusals, AtomicFile& out);
 
 }  // namespace vaw::sim
