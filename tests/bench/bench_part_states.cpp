@@ -65,9 +65,9 @@ double threadSeconds() {
 // Grabs `part` where it is, carries it to `target`, holds it still there for 0.1 s (longer than the
 // release velocity's window, so that it is let go at rest) and lets go.
 void placeByHand(World& w, vaw::PartId part, const Eigen::Isometry3d& target, Input& in) {
-  in.left = {w.part(part).pose, true};
+  in.left = vaw::sim::HandInput{w.part(part).pose, true, std::nullopt, std::nullopt};
   w.step(in);
-  in.left = {target, true};
+  in.left = vaw::sim::HandInput{target, true, std::nullopt, std::nullopt};
   for (int i = 0; i < static_cast<int>(0.1 * w.settings().rate); ++i) w.step(in);
   in.left.grab = false;
   w.step(in);
@@ -184,9 +184,9 @@ void BM_BlockInHand(benchmark::State& st) {
   const vaw::PartId block = *a.findPart("block");
   runEpisodes(st, "block-on-plate.vaw.json", "block",
               {[block](World& w, Input& in) {
-                 in.left = {w.part(block).pose, false};
+                 in.left = vaw::sim::HandInput{w.part(block).pose, false, std::nullopt, std::nullopt};
                  w.step(in);  // let go, after the last episode
-                 in.left = {w.part(block).pose, true};
+                 in.left = vaw::sim::HandInput{w.part(block).pose, true, std::nullopt, std::nullopt};
                  w.step(in);
                },
                PartState::InHand, static_cast<int>(st.range(0))});

@@ -21,7 +21,7 @@ TEST(SceneFile, TuningSavedWithTheSceneReopensTheSame) {
   ASSERT_EQ(w.apply(MethodEdit{dyn::Method::SemiImplicitEuler}), "");
   ASSERT_EQ(w.apply(MaterialFrictionEdit{"steel", {0.4, 0.35, 0.001}}), "");
   ASSERT_EQ(w.apply(PartFrictionEdit{sleeve, FrictionValues{0.12, 0.1, 0.002}}), "");
-  const auto dir = simtest::tempDir() / "elsewhere";  // not the scene's folder: paths must be rewritten
+  const auto dir = vaw::test::tempDir() / "elsewhere";  // not the scene's folder: paths must be rewritten
   std::filesystem::create_directories(dir);
   saveScene(scene->assembly(), w, dir / "tuned.vaw.json");
 
@@ -52,7 +52,7 @@ TEST(SceneFile, TuningSavedWithTheSceneReopensTheSame) {
 }
 
 TEST(SceneFile, SettingsBlockValuesAreChecked) {
-  const auto dir = simtest::tempDir();
+  const auto dir = vaw::test::tempDir();
   const auto write = [&](const std::string& settings) {
     std::ofstream(dir / "s.vaw.json") << R"({"format": "vaw-scene", "version": 2, "name": "s", "units": "mm",
       "materials": {"steel": {"density": 7850, "friction": {"static": 0.3, "kinetic": 0.2, "rotational": 0.0}}},

@@ -65,7 +65,7 @@ TEST(Session, MeasuredHandVelocityRoundTrips) {
     if (k == 20) in.left.velocity = interact::Twist{Eigen::Vector3d(0.1 / 3.0, 0.27, 0.18), Eigen::Vector3d(0.0, 0.0, 0.7)};
     s.inputs.push_back(in);
   }
-  const auto dir = simtest::tempDir();
+  const auto dir = vaw::test::tempDir();
   saveSession(s, dir / "v.vaw-session.json");
   const Session loaded = loadSession(dir / "v.vaw-session.json");
   ASSERT_EQ(loaded.inputs.size(), s.inputs.size());

@@ -1,4 +1,4 @@
-// The headset's hands as the world's input (vaw/ui/xr_input.hpp): pinch and grip with hysteresis at the
+// The headset's hands as the world's input (ui/include/vaw/ui/xr_input.hpp): pinch and grip with hysteresis at the
 // thresholds the settings give, the measured release velocity passed on unscaled, a hand the headset loses
 // keeping what it held, the left hand holding the base.
 #include <gtest/gtest.h>

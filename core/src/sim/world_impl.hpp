@@ -197,7 +197,8 @@ struct World::Impl : Snapshot::State {
   [[nodiscard]] double torqueEps(PartId id) const {
     return 1e-6 * def(id).mass.mass * kStandardGravity * std::max(settings.gravity.rotation, 1e-12);
   }
-  void stepOnBase(PartId id);
+  // `leaving`: the way (base frame) the part was last blocked, when it starts again away from it.
+  void stepOnBase(PartId id, const Eigen::Vector3d& leaving = Eigen::Vector3d::Zero());
   void leaveBase(PartId id, const Eigen::Vector3d& v, const std::string& cause,
                  const Eigen::Vector3d& w = Eigen::Vector3d::Zero());
   void checkStart(PartId id);

@@ -162,7 +162,7 @@ void World::Impl::enterOnBase(PartId id, std::size_t ci) {
 }
 
 // Advances the on-base model of `id` by one step from its current coordinates; handles the events.
-void World::Impl::stepOnBase(PartId id) {
+void World::Impl::stepOnBase(PartId id, const Eigen::Vector3d& leaving) {
   flush(id);
   PartRuntime& r = parts[id];
   PartModel& m = models[id];
@@ -238,6 +238,17 @@ void World::Impl::stepOnBase(PartId id) {
       if (bound == Bound::Obstacle) options.firstStep = options.tolerance;
       if (bound == Bound::Touch) options.firstStep = 2.0 * options.tolerance;
       ev = collision::firstEventOnBase(collision, sup, motion, options);
+      // A part stopped by an obstacle rests at that contact's allowance, where rounding decides whether its
+      // start counts as blocked once the base has turned; moving away from what stopped it, that contact
+      // cannot block it (a sleeve resting on its shaft's shoulder, the base turned over: it slides off).
+      if (ev.kind == collision::EventKind::Blocked && ev.initiallyBlocked && !options.startFree) {
+        const Eigen::Vector3d way = r.model == Model::Cylindrical ? Eigen::Vector3d(m.hinge->axisInBase() * (s1 - s0))
+                                                                  : Eigen::Vector3d(m.e1b * (p1 - p0).x() + m.e2b * (p1 - p0).y());
+        if (leaving.dot(way) < 0.0) {
+          options.startFree = true;
+          ev = collision::firstEventOnBase(collision, sup, motion, options);
+        }
+      }
       m.free.valid = false;  // found again around the next step's start
     }
   }
@@ -353,9 +364,10 @@ void World::Impl::checkStart(PartId id) {
   const bool rotFree = rotSign != 0.0 && !rotInto;
   if (!slideFree && !rotFree) return;
   if (!fireEvent(id, Event::StaticFrictionOvercome, interact::Hands::None, tiltCause(normalWorld))) return;
+  const Eigen::Vector3d leaving = slideFree ? m.blockedDir : Eigen::Vector3d::Zero();
   if (slideFree) m.blockedDir.setZero();
   if (rotFree) m.blockedRot = 0.0;
-  stepOnBase(id);
+  stepOnBase(id, leaving);
 }
 
 }  // namespace vaw::sim

@@ -1,6 +1,6 @@
 #pragma once
 // VR mode (docs/vr.md): moves the running session into an OpenXR headset and back. It loads the OpenXR plugin
-// (libvaw_xr_openxr.so, behind vaw/ui/xr.hpp) when VR is first asked for, gives it a GLX OpenGL context of its
+// (libvaw_xr_openxr.so, behind ui/include/vaw/ui/xr.hpp) when VR is first asked for, gives it a GLX OpenGL context of its
 // own, and runs the headset's frame loop on the GUI thread: each frame the runtime's xrWaitFrame paces it,
 // the SimulationController runs the steps that end by the frame's display time (its own timer is set aside,
 // setExternalPacing), each step takes its whole input from the tracked hands sampled at the step's end time
