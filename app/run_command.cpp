@@ -51,26 +51,11 @@ class DirectoryLock {
 
 }  // namespace
 
-int run(const std::vector<std::string>& args) {
-  std::string scene, inputs, out, replayFile;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    const bool hasValue = i + 1 < args.size();
-    if (args[i] == "--inputs" && hasValue) inputs = args[++i];
-    else if (args[i] == "--out" && hasValue) out = args[++i];
-    else if (args[i] == "--replay" && hasValue) replayFile = args[++i];
-    else if (!args[i].empty() && args[i][0] == '-') {
-      std::fprintf(stderr, "vaw-sim run: unknown option or missing value: %s\n", args[i].c_str());
-      return 2;
-    } else if (scene.empty()) scene = args[i];
-    else {
-      std::fprintf(stderr, "vaw-sim run: one scene at a time\n");
-      return 2;
-    }
-  }
-  if (out.empty() || (replayFile.empty() && (scene.empty() || inputs.empty())) || (!replayFile.empty() && !inputs.empty())) {
-    std::fprintf(stderr, "usage: vaw-sim run SCENE --inputs SCRIPT --out DIR\n       vaw-sim run --replay SESSION --out DIR\n");
-    return 2;
-  }
+int run(const RunArgs& args) {
+  const std::string& scene = args.scene;
+  const std::string& inputs = args.inputs;
+  const std::string& out = args.out;
+  const std::string& replayFile = args.replay;
   ImporterRegistry importers;
   for (const auto& dir : ImporterRegistry::defaultPluginDirs())
     for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());

@@ -1,8 +1,10 @@
 #pragma once
 #include <string>
-#include <vector>
 
 namespace vaw::app {
-// `vaw-sim run`: see the usage text in vaw_sim.cpp and docs/inputs-format.md.
-int run(const std::vector<std::string>& args);
-}
+// `vaw-sim run`: the options as parsed in vaw_sim.cpp; docs/inputs-format.md has the files.
+struct RunArgs {
+  std::string scene, inputs, out, replay;
+};
+int run(const RunArgs& args);
+}  // namespace vaw::app

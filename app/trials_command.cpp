@@ -27,24 +27,6 @@ namespace {
 using nlohmann::json;
 using namespace vaw::trials;
 
-constexpr const char* kUsage =
-    "usage: vaw-sim trials simulate DESIGN --participant MODEL [--out RESULTS | --runs N] [--json]\n"
-    "       vaw-sim trials analyze RESULTS... [--png FILE] [--json] [--lapse L]\n"
-    "       vaw-sim trials demand --distance M --height M [--pitch-limit DEG_S] [--yaw-limit DEG_S]\n"
-    "                             [--acceleration-limit DEG_S2] [--yaw]\n"
-    "\n"
-    "  simulate  run the design against a simulated participant (docs/trials.md); with --out, through\n"
-    "            the crash-safe results file a real session uses (an existing file is resumed); with\n"
-    "            --runs N, N participants (seeds MODEL.seed .. +N-1, design seeds likewise) and how\n"
-    "            often the interval holds the model's PSE, for planning how many trials a study needs\n"
-    "  analyze   per participant and pooled: the PSE (or mean setting) with its 95 % interval, the\n"
-    "            objective measures, and the head-demand model's scale; --png draws answers against\n"
-    "            scale with the fitted curve; --lapse sets the fit's fixed lapse rate (default 0.02)\n"
-    "  demand    the head rotation needed to follow a part falling from eye level, and the largest\n"
-    "            gravity scale within the limits (docs/head-demand.md)\n"
-    "\n"
-    "exit status: 0 ok, 1 bad input (the message names file, field and expectation), 2 usage\n";
-
 json interval(const Interval& i) {
   return {i.lo > 0 ? json(i.lo) : json(nullptr), std::isfinite(i.hi) ? json(i.hi) : json(nullptr)};
 }
@@ -150,44 +132,14 @@ void print(const ConditionAnalysis& a) {
   for (const auto& n : a.notes) std::printf("  note: %s\n", n.c_str());
 }
 
-bool value(const std::vector<std::string>& args, std::size_t& i, std::string& out) {
-  if (i + 1 >= args.size()) return false;
-  out = args[++i];
-  return true;
-}
+}  // namespace
 
-std::optional<double> number(const std::string& s) {
-  char* end = nullptr;
-  const double v = std::strtod(s.c_str(), &end);
-  if (end == s.c_str() || *end != '\0' || !std::isfinite(v)) return std::nullopt;
-  return v;
-}
-
-int usage(const std::string& problem) {
-  std::fprintf(stderr, "vaw-sim trials: %s\n%s", problem.c_str(), kUsage);
-  return 2;
-}
-
-int simulate(const std::vector<std::string>& args) {
-  std::string designFile, modelFile, out, runsText;
-  bool asJson = false;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--participant" && value(args, i, modelFile)) continue;
-    if (args[i] == "--out" && value(args, i, out)) continue;
-    if (args[i] == "--runs" && value(args, i, runsText)) continue;
-    if (args[i] == "--json") asJson = true;
-    else if (!args[i].empty() && args[i][0] == '-') return usage("unknown option or missing value: " + args[i]);
-    else if (designFile.empty()) designFile = args[i];
-    else return usage("one design at a time");
-  }
-  if (designFile.empty() || modelFile.empty()) return usage("simulate needs DESIGN and --participant MODEL");
-  int runs = 1;
-  if (!runsText.empty()) {
-    const auto r = number(runsText);
-    if (!r || *r < 1 || *r != std::floor(*r)) return usage("--runs takes a whole number >= 1");
-    runs = static_cast<int>(*r);
-  }
-  if (runs > 1 && !out.empty()) return usage("--out writes one session; leave it out with --runs");
+int trialsSimulate(const TrialsSimulateArgs& args) {
+  const std::string& designFile = args.design;
+  const std::string& modelFile = args.participant;
+  const std::string& out = args.out;
+  const int runs = args.runs;
+  const bool asJson = args.json;
   const Design design = loadDesign(designFile);
   const ParticipantModel model = loadParticipantModel(modelFile);
 
@@ -258,24 +210,12 @@ int simulate(const std::vector<std::string>& args) {
   return 0;
 }
 
-int analyzeCommand(const std::vector<std::string>& args, int argc, char** argv) {
-  std::vector<std::string> files;
-  std::string png, lapseText;
-  bool asJson = false;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--png" && value(args, i, png)) continue;
-    if (args[i] == "--lapse" && value(args, i, lapseText)) continue;
-    if (args[i] == "--json") asJson = true;
-    else if (!args[i].empty() && args[i][0] == '-') return usage("unknown option or missing value: " + args[i]);
-    else files.push_back(args[i]);
-  }
-  if (files.empty()) return usage("analyze needs at least one results file");
+int trialsAnalyze(const TrialsAnalyzeArgs& args, int argc, char** argv) {
+  const std::vector<std::string>& files = args.files;
+  const std::string& png = args.png;
+  const bool asJson = args.json;
   AnalysisOptions options;
-  if (!lapseText.empty()) {
-    const auto l = number(lapseText);
-    if (!l || *l < 0 || *l >= 0.5) return usage("--lapse takes a rate in [0, 0.5)");
-    options.lapse = *l;
-  }
+  if (args.lapse) options.lapse = *args.lapse;
   std::vector<ResultsFile> results;
   for (const auto& f : files) {
     results.push_back(readResults(f));
@@ -303,27 +243,13 @@ int analyzeCommand(const std::vector<std::string>& args, int argc, char** argv) 
   return 0;
 }
 
-int demand(const std::vector<std::string>& args) {
-  human::ViewingGeometry g{0.0, 0.0};
+int trialsDemand(const TrialsDemandArgs& args) {
+  const human::ViewingGeometry g{args.distance, args.height};
   human::HeadLimits limits;
-  auto axis = human::FollowAxis::Pitch;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    std::string v;
-    if (args[i] == "--yaw") {
-      axis = human::FollowAxis::Yaw;
-      continue;
-    }
-    if (!value(args, i, v)) return usage("unknown option or missing value: " + args[i]);
-    const auto x = number(v);
-    if (!x || *x <= 0) return usage(args[i - 1] + " takes a positive number");
-    if (args[i - 1] == "--distance") g.distance_m = *x;
-    else if (args[i - 1] == "--height") g.fallHeight_m = *x;
-    else if (args[i - 1] == "--pitch-limit") limits.pitchRate_deg_s = *x;
-    else if (args[i - 1] == "--yaw-limit") limits.yawRate_deg_s = *x;
-    else if (args[i - 1] == "--acceleration-limit") limits.acceleration_deg_s2 = *x;
-    else return usage("unknown option " + args[i - 1]);
-  }
-  if (g.distance_m <= 0 || g.fallHeight_m <= 0) return usage("demand needs --distance and --height");
+  if (args.pitchLimit) limits.pitchRate_deg_s = *args.pitchLimit;
+  if (args.yawLimit) limits.yawRate_deg_s = *args.yawLimit;
+  if (args.accelerationLimit) limits.acceleration_deg_s2 = *args.accelerationLimit;
+  const auto axis = args.yaw ? human::FollowAxis::Yaw : human::FollowAxis::Pitch;
   const auto r = human::recommendScale(g, limits, axis);
   const auto& d = r.atFullGravity;
   std::printf("a part dropped at eye level %.3g m away, falling %.3g m at 1 g (%.5g m/s^2):\n", g.distance_m, g.fallHeight_m, kStandardGravity);
@@ -333,29 +259,6 @@ int demand(const std::vector<std::string>& args) {
   std::printf("  peak head acceleration %.1f deg/s^2 at release\n", d.peakAcceleration_deg_s2);
   std::printf("  largest scale within the %s limit: %.4f; recommended scale %.4f\n", r.limitedBy.c_str(), r.maxScale, r.recommendedScale);
   return 0;
-}
-
-}  // namespace
-
-int trials(const std::vector<std::string>& args, int argc, char** argv) {
-  if (args.empty()) return usage("which: simulate, analyze or demand?");
-  if (std::find_if(args.begin(), args.end(), [](const std::string& a) { return a == "--help" || a == "-h"; }) != args.end()) {
-    std::printf("%s", kUsage);
-    return 0;
-  }
-  const std::vector<std::string> rest(args.begin() + 1, args.end());
-  try {
-    if (args[0] == "simulate") return simulate(rest);
-    if (args[0] == "analyze") return analyzeCommand(rest, argc, argv);
-    if (args[0] == "demand") return demand(rest);
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
-    return 1;
-  } catch (const std::system_error& e) {
-    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
-    return 1;
-  }
-  return usage("unknown trials command \"" + args[0] + "\"");
 }
 
 }  // namespace vaw::app

@@ -1,11 +1,15 @@
-// vaw-sim: the headless runner. `inspect` prints what vaw makes of a scene: per part its mass
-// properties and lifting category, with the reason, and how each constraint meets the base.
+// vaw-sim: the headless runner. The command line is parsed by CLI11 (one parser for every subcommand, so
+// --help, --version and the usage errors behave alike); `inspect` prints what vaw makes of a scene: per
+// part its mass properties and lifting category, with the reason, and how each constraint meets the base.
 #include <unistd.h>
 
-#include <algorithm>
+#include <CLI/CLI.hpp>
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <new>
 #include <nlohmann/json.hpp>
@@ -22,29 +26,6 @@
 #include "vaw/version.hpp"
 
 namespace {
-
-constexpr const char* kUsage =
-    "usage: vaw-sim inspect SCENE [--json] [--categories default|stricter]\n"
-    "       vaw-sim work-precision --out DIR [--repeats N] [--no-peers]\n"
-    "       vaw-sim states [--dot]\n"
-    "       vaw-sim run SCENE --inputs SCRIPT --out DIR | run --replay SESSION --out DIR\n"
-    "       vaw-sim trials simulate|analyze|demand ...   (vaw-sim trials --help)\n"
-    "\n"
-    "  inspect    load a scene (or a bare mesh file) and print, per part: name, mass, volume,\n"
-    "             centre of mass, principal moments, category and why; per constraint, how it meets\n"
-    "             the base (a bore on a shaft: both radii and the clearance)\n"
-    "  --json     print JSON instead of a table\n"
-    "  --categories PRESET   lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)\n"
-    "  work-precision  run every scenario (slide with stop, gear pendulum undamped and damped,\n"
-    "             tumbling block) with every method at 30..1000 Hz, and the Bullet/ODE peers when\n"
-    "             built; write DIR/work-precision.csv and one chart per scenario (PNG and SVG)\n"
-    "  states     print the part-state transition table (--dot: as Graphviz, docs/states.dot)\n"
-    "  run        simulate SCENE headless over an input script (docs/inputs-format.md) or a recorded\n"
-    "             session; write DIR/trajectories.csv, DIR/transitions.csv, DIR/session.vaw-session.json\n"
-    "  trials     gravity-scale trials: simulate a design against a simulated participant, analyse\n"
-    "             results files (PSE with interval, chart), the head-demand model (docs/trials.md)\n"
-    "\n"
-    "exit status: 0 ok, 1 bad input (the message names file, field and expectation), 2 usage\n";
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -121,30 +102,15 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
   for (const auto& w : a.warnings) std::printf("warning: %s\n", w.message().c_str());
 }
 
-int inspect(const std::vector<std::string>& args) {
+struct InspectArgs {
   std::string file;
   bool json = false;
+  std::string categories = "default";
+};
+
+int inspect(const InspectArgs& args) {
   vaw::LoadOptions options;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--json") json = true;
-    else if (args[i] == "--categories" && i + 1 < args.size()) {
-      if (!vaw::CategorySettings::byName(args[++i], options.categories)) {
-        std::fprintf(stderr, "vaw-sim: unknown category preset \"%s\" (default, stricter)\n", args[i].c_str());
-        return 2;
-      }
-    } else if (!args[i].empty() && args[i][0] == '-') {
-      std::fprintf(stderr, "vaw-sim: unknown option %s\n%s", args[i].c_str(), kUsage);
-      return 2;
-    } else if (file.empty()) file = args[i];
-    else {
-      std::fprintf(stderr, "vaw-sim: one scene at a time\n%s", kUsage);
-      return 2;
-    }
-  }
-  if (file.empty()) {
-    std::fprintf(stderr, "%s", kUsage);
-    return 2;
-  }
+  if (!vaw::CategorySettings::byName(args.categories, options.categories)) return 2;  // the parser allows known names only
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
     for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());
@@ -160,12 +126,12 @@ int inspect(const std::vector<std::string>& args) {
     return true;
   };
   try {
-    const vaw::Assembly a = vaw::loadAny(vaw::resolveScenePath(file), importers, options, progress);
+    const vaw::Assembly a = vaw::loadAny(vaw::resolveScenePath(args.file), importers, options, progress);
     if (tty) std::fprintf(stderr, "\r%70s\r", "");
     // How each constraint meets the base (the fit's clearance, or why it does not fit): surface patches
     // of the constrained parts only.
     const auto fits = vaw::collision::constraintFits(a);
-    if (json) std::cout << toJson(a, fits).dump(2) << '\n';
+    if (args.json) std::cout << toJson(a, fits).dump(2) << '\n';
     else printTable(a, fits);
     return 0;
   } catch (const vaw::InputError& e) {
@@ -175,38 +141,144 @@ int inspect(const std::vector<std::string>& args) {
   }
 }
 
+// A whole number within [lo, hi], strictly: "abc", "-5" and "3x" are refused, not read as 0 or 1.
+CLI::Validator wholeNumber(int lo, int hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const bool digits = !text.empty() && text.size() <= 9 && text.find_first_not_of("0123456789") == std::string::npos;
+        if (digits && std::stoi(text) >= lo && std::stoi(text) <= hi) return {};
+        return "expected a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) + ", found \"" + text + "\"";
+      },
+      "N");
+}
+
+// A finite number within [lo, hi] (hi excluded when `openHi`).
+CLI::Validator numberIn(double lo, double hi, bool openHi, const std::string& what) {
+  return CLI::Validator(
+      [lo, hi, openHi, what](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        const bool ok = end != text.c_str() && *end == '\0' && std::isfinite(v) && v >= lo && (openHi ? v < hi : v <= hi);
+        return ok ? std::string() : "expected " + what + ", found \"" + text + "\"";
+      },
+      "X");
+}
+
 int dispatch(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty() || args[0] == "--help" || args[0] == "-h") {
-    std::fprintf(args.empty() ? stderr : stdout, "%s", kUsage);
-    return args.empty() ? 2 : 0;
-  }
-  if (args[0] == "--version") {
-    std::printf("vaw-sim %s\n", vaw::kVersion);
-    return 0;
-  }
-  const std::string command = args[0];
-  args.erase(args.begin());
-  // A subcommand's --help is a request for its usage, not a mistake in its arguments (trials has its own).
-  if (command != "trials" && std::find(args.begin(), args.end(), "--help") != args.end()) {
-    std::fputs(kUsage, stdout);
-    return 0;
-  }
-  if (command == "inspect") return inspect(args);
-  if (command == "states") {
-    const bool dot = !args.empty() && args[0] == "--dot";
-    if (args.size() > (dot ? 1u : 0u)) {
-      std::fprintf(stderr, "%s", kUsage);
-      return 2;
+  CLI::App app{"vaw-sim: the Virtual Assembly Workbench without its window: inspect scenes, run and replay\n"
+               "simulations, measure the methods' speed against their accuracy, and run gravity-scale trials.",
+               "vaw-sim"};
+  app.set_version_flag("--version", std::string("vaw-sim ") + vaw::kVersion, "Print the version and exit");
+  app.require_subcommand(1);
+  app.footer("Exit status: 0 ok, 1 bad input or output (the message names file, field and expectation), 2 usage.\n"
+             "Each command's options: vaw-sim COMMAND --help.");
+  std::function<int()> command;
+
+  InspectArgs ins;
+  CLI::App* inspectCmd = app.add_subcommand(
+      "inspect", "Load a scene (or a bare mesh file; a bundled scene by its name) and print, per part: name, mass, "
+                 "volume, centre of mass, principal moments, category and why; per constraint, how it meets the base "
+                 "(a bore on a shaft: both radii and the clearance).");
+  inspectCmd->add_option("SCENE", ins.file, "Scene, mesh file, or bundled scene name")->required();
+  inspectCmd->add_flag("--json", ins.json, "Print JSON instead of a table");
+  inspectCmd->add_option("--categories", ins.categories, "Lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)")
+      ->check(CLI::IsMember({"default", "stricter"}));
+  inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
+
+  bool dot = false;
+  CLI::App* statesCmd = app.add_subcommand("states", "Print the part-state transition table.");
+  statesCmd->add_flag("--dot", dot, "As Graphviz (docs/states.dot)");
+  statesCmd->callback([&] {
+    command = [&] {
+      std::fputs((dot ? vaw::interact::tableDot() : vaw::interact::tableText()).c_str(), stdout);
+      return 0;
+    };
+  });
+
+  vaw::app::RunArgs run;
+  CLI::App* runCmd = app.add_subcommand(
+      "run", "Simulate SCENE headless over an input script (docs/inputs-format.md), or replay a recorded session; "
+             "write DIR/trajectories.csv, DIR/transitions.csv and DIR/session.vaw-session.json.");
+  runCmd->add_option("SCENE", run.scene, "Scene file or bundled scene name (with --replay: overrides the recorded one)");
+  CLI::Option* inputsOpt = runCmd->add_option("--inputs", run.inputs, "Input script")->type_name("SCRIPT");
+  runCmd->add_option("--replay", run.replay, "Recorded session to replay")->type_name("SESSION")->excludes(inputsOpt);
+  runCmd->add_option("--out", run.out, "Output directory")->type_name("DIR")->required();
+  runCmd->callback([&] {
+    if (run.replay.empty() && (run.scene.empty() || run.inputs.empty()))
+      throw CLI::ValidationError("give SCENE --inputs SCRIPT, or --replay SESSION");
+    command = [&] { return vaw::app::run(run); };
+  });
+
+  vaw::app::WorkPrecisionArgs wp;
+  bool noPeers = false;
+  CLI::App* wpCmd = app.add_subcommand(
+      "work-precision", "Run every scenario (slide with stop, gear pendulum undamped and damped, tumbling block, "
+                        "tennis racket) with every method at 30..1000 Hz, and the Bullet/ODE peers when built; write "
+                        "DIR/work-precision.csv and one chart per scenario (PNG and SVG).");
+  wpCmd->add_option("--out", wp.out, "Output directory")->type_name("DIR")->required();
+  wpCmd->add_option("--repeats", wp.repeats, "Timed runs per point; the median is kept (default 5)")->check(wholeNumber(1, 1000));
+  wpCmd->add_flag("--no-peers", noPeers, "Leave out the Bullet and ODE peers");
+  wpCmd->callback([&] {
+    wp.peers = !noPeers;
+    command = [&] { return vaw::app::workPrecision(wp, argc, argv); };
+  });
+
+  CLI::App* trialsCmd = app.add_subcommand("trials", "Gravity-scale trials (docs/trials.md).");
+  trialsCmd->require_subcommand(1);
+  vaw::app::TrialsSimulateArgs sim;
+  CLI::App* simCmd = trialsCmd->add_subcommand(
+      "simulate", "Run the design against a simulated participant; with --out, through the crash-safe results file a "
+                  "real session uses (an existing file is resumed); with --runs N, N participants (seeds MODEL.seed .. "
+                  "+N-1, design seeds likewise) and how often the interval holds the model's PSE, for planning how many "
+                  "trials a study needs.");
+  simCmd->add_option("DESIGN", sim.design, "Trial design (.vaw-trial.json)")->required();
+  simCmd->add_option("--participant", sim.participant, "Simulated participant (.vaw-participant.json)")->type_name("MODEL")->required();
+  CLI::Option* outOpt = simCmd->add_option("--out", sim.out, "Results file to write or resume")->type_name("RESULTS");
+  simCmd->add_option("--runs", sim.runs, "Simulated participants (default 1)")->check(wholeNumber(1, 100000))->excludes(outOpt);
+  simCmd->add_flag("--json", sim.json, "Print JSON");
+  simCmd->callback([&] { command = [&] { return vaw::app::trialsSimulate(sim); }; });
+
+  vaw::app::TrialsAnalyzeArgs an;
+  CLI::App* anCmd = trialsCmd->add_subcommand(
+      "analyze", "Per participant and pooled: the PSE (or mean setting) with its 95 % interval, the objective "
+                 "measures, and the head-demand model's scale.");
+  anCmd->add_option("RESULTS", an.files, "Results files (.vaw-results.jsonl)")->required();
+  anCmd->add_option("--png", an.png, "Draw answers against scale with the fitted curve")->type_name("FILE");
+  anCmd->add_option("--lapse", an.lapse, "The fit's fixed lapse rate (default 0.02)")->check(numberIn(0.0, 0.5, true, "a rate in [0, 0.5)"));
+  anCmd->add_flag("--json", an.json, "Print JSON");
+  anCmd->callback([&] { command = [&] { return vaw::app::trialsAnalyze(an, argc, argv); }; });
+
+  vaw::app::TrialsDemandArgs dm;
+  CLI::App* dmCmd = trialsCmd->add_subcommand(
+      "demand", "The head rotation needed to follow a part falling from eye level, and the largest gravity scale "
+                "within the limits (docs/head-demand.md).");
+  const auto positive = numberIn(1e-9, 1e9, false, "a positive number");
+  dmCmd->add_option("--distance", dm.distance, "Viewing distance, m")->type_name("M")->required()->check(positive);
+  dmCmd->add_option("--height", dm.height, "Fall height, m")->type_name("M")->required()->check(positive);
+  dmCmd->add_option("--pitch-limit", dm.pitchLimit, "Head pitch rate limit, deg/s")->type_name("DEG_S")->check(positive);
+  dmCmd->add_option("--yaw-limit", dm.yawLimit, "Head yaw rate limit, deg/s")->type_name("DEG_S")->check(positive);
+  dmCmd->add_option("--acceleration-limit", dm.accelerationLimit, "Head acceleration limit, deg/s^2")->type_name("DEG_S2")->check(positive);
+  dmCmd->add_flag("--yaw", dm.yaw, "Follow by turning the head sideways instead of down");
+  dmCmd->callback([&] { command = [&] { return vaw::app::trialsDemand(dm); }; });
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // Name the (sub)command whose arguments were wrong, and keep exit status 2 for every usage error.
+    std::string where = "vaw-sim";
+    for (const CLI::App* sub = &app; sub != nullptr;) {
+      const auto chosen = sub->get_subcommands();
+      sub = chosen.empty() ? nullptr : chosen.front();
+      if (sub) where += " " + sub->get_name();
     }
-    std::fputs((dot ? vaw::interact::tableDot() : vaw::interact::tableText()).c_str(), stdout);
-    return 0;
+    std::string problem = e.what();
+    if (where == "vaw-sim" && argc > 1 && argv[1][0] != '-')
+      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, work-precision, trials)";
+    std::fprintf(stderr, "%s: %s\nRun %s --help for the usage.\n", where.c_str(), problem.c_str(), where.c_str());
+    return 2;
   }
-  if (command == "run") return vaw::app::run(args);
-  if (command == "trials") return vaw::app::trials(args, argc, argv);
-  if (command == "work-precision") return vaw::app::workPrecision(args, argc, argv);
-  std::fprintf(stderr, "vaw-sim: unknown command \"%s\"\n%s", command.c_str(), kUsage);
-  return 2;
+  return command();
 }
 
 }  // namespace

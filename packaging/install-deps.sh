@@ -8,7 +8,7 @@ packages=(
   # toolchain
   build-essential cmake ninja-build pkg-config file
   # core libraries
-  libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev
+  libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev libcli11-dev
   # Qt 6: Qt3D's CMake package also needs the OpenGL, xkbcommon and Vulkan headers
   qt6-base-dev qt6-3d-dev qt6-charts-dev qt6-svg-dev
   libqt6opengl6-dev libqt6openglwidgets6 libxkbcommon-dev libvulkan-dev libgl-dev
