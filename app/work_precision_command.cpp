@@ -41,62 +41,13 @@ void writeCsv(const std::filesystem::path& file, const std::vector<dyn::Record>&
   writeFileAtomically(file, out.str());
 }
 
-// A positive count, strictly: "abc", "-5" and "3x" are refused, not read as 0 or 1.
-bool parseCount(const std::string& text, int& out) {
-  if (text.empty() || text.size() > 6 || text.find_first_not_of("0123456789") != std::string::npos) return false;
-  out = std::stoi(text);
-  return out >= 1 && out <= 1000;
-}
-
-#ifdef VAW_HAVE_PEERS
-void addPeers(std::vector<dyn::Record>& records, const dyn::WorkPrecisionOptions& o, bool tty) {
-  const dyn::SlideScenario slide;
-  dyn::PendulumScenario undamped, damped;
-  damped.fr = 0.0005;
-  const dyn::Samples slideRef = dyn::slideReference(slide);
-  const dyn::Samples undampedRef = dyn::pendulumReference(undamped), dampedRef = dyn::pendulumReference(damped);
-  for (const auto& peer : peers::availablePeers()) {
-    for (int rate : dyn::kStepRates) {
-      if (tty) std::fprintf(stderr, "\rpeer %s at %d Hz        ", peer.name.c_str(), rate);
-      const auto s = peer.slide(slide, rate, o);
-      records.push_back({"slide-with-stop", peer.name, static_cast<double>(rate), s.cpuPerSimSecond,
-                         dyn::maxAbsDifference(s.samples, slideRef), "m", true, s.note});
-      for (const auto* p : {&undamped, &damped}) {
-        const auto r = peer.pendulum(*p, rate, o);
-        records.push_back({p->fr > 0 ? "gear-pendulum-damped" : "gear-pendulum", peer.name, static_cast<double>(rate),
-                           r.cpuPerSimSecond, dyn::maxAbsDifference(r.samples, p->fr > 0 ? dampedRef : undampedRef), "rad",
-                           true, r.note});
-      }
-    }
-  }
-  if (tty) std::fprintf(stderr, "\n");
-}
-#endif
-
 }  // namespace
 
-int workPrecision(const std::vector<std::string>& args, int argc, char** argv) {
-  std::filesystem::path outDir;
+int workPrecision(const WorkPrecisionArgs& args, int argc, char** argv) {
+  const std::filesystem::path& outDir = args.out;
   dyn::WorkPrecisionOptions options;
-  bool peers = true;
-  for (std::size_t i = 0; i < args.size(); ++i) {
-    if (args[i] == "--out" && i + 1 < args.size()) outDir = args[++i];
-    else if (args[i] == "--repeats" && i + 1 < args.size()) {
-      if (!parseCount(args[++i], options.repeats)) {
-        std::fprintf(stderr, "vaw-sim work-precision: --repeats: expected a whole number from 1 to 1000, found \"%s\"\n", args[i].c_str());
-        return 2;
-      }
-    }
-    else if (args[i] == "--no-peers") peers = false;
-    else {
-      std::fprintf(stderr, "vaw-sim work-precision: unknown argument %s\n", args[i].c_str());
-      return 2;
-    }
-  }
-  if (outDir.empty()) {
-    std::fprintf(stderr, "vaw-sim work-precision: --out DIR is required\n");
-    return 2;
-  }
+  options.repeats = args.repeats;
+  const bool withPeers = args.peers;
   std::error_code ec;
   std::filesystem::create_directories(outDir, ec);
   if (!ec && !std::filesystem::is_directory(outDir, ec)) ec = std::make_error_code(std::errc::not_a_directory);
@@ -111,9 +62,16 @@ int workPrecision(const std::vector<std::string>& args, int argc, char** argv) {
   });
   std::fprintf(stderr, "\n");
 #ifdef VAW_HAVE_PEERS
-  if (peers) addPeers(records, options, tty);
+  if (withPeers) {
+    const auto peerRecords = peers::runPeers(options, [tty](const std::string& what) {
+      if (tty) std::fprintf(stderr, "\r%-40s", what.c_str());
+      return true;
+    });
+    if (tty) std::fprintf(stderr, "\n");
+    records.insert(records.end(), peerRecords.begin(), peerRecords.end());
+  }
 #else
-  if (peers) std::fprintf(stderr, "vaw-sim: built without the Bullet/ODE peers\n");
+  if (withPeers) std::fprintf(stderr, "vaw-sim: built without the Bullet/ODE peers\n");
 #endif
   const auto csv = outDir / "work-precision.csv";
   writeCsv(csv, records);

@@ -29,6 +29,12 @@ struct Peer {
 // The engines compiled in, in a fixed order (bullet, ode); empty when none was found.
 std::vector<Peer> availablePeers();
 
+// Every available engine on the slide and pendulum scenarios that `o` asks for, at its rates, as
+// work-precision records against the same references as vaw's methods. `progress` hears "bullet at
+// 90 Hz" before each rate; returning false stops.
+std::vector<vaw::dyn::Record> runPeers(const vaw::dyn::WorkPrecisionOptions& o,
+                                       const std::function<bool(const std::string&)>& progress = {});
+
 // Number of samples for a scenario of this duration: round(duration / kSampleInterval) + 1.
 int sampleCount(double duration);
 // Steps per sample at this step rate; throws std::invalid_argument unless stepRate * kSampleInterval

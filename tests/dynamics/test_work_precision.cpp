@@ -12,7 +12,12 @@ using namespace vaw::dyn;
 namespace {
 
 const std::vector<Record>& records() {
-  static const std::vector<Record> r = runWorkPrecision({1, 1e-5});
+  static const std::vector<Record> r = [] {
+    WorkPrecisionOptions o;
+    o.repeats = 1;
+    o.minTimedSeconds = 1e-5;
+    return runWorkPrecision(o);
+  }();
   return r;
 }
 

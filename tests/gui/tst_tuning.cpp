@@ -27,6 +27,10 @@
 #include <QTreeView>
 #include <QTemporaryDir>
 #include <QUndoStack>
+#include <QtCharts/QChart>
+#include <QtCharts/QChartView>
+#include <QtCharts/QScatterSeries>
+#include <QProgressBar>
 #include <QtTest>
 #include <cmath>
 #include <functional>
@@ -34,6 +38,7 @@
 #include <numbers>
 
 #include "gui_test_support.hpp"
+#include "vaw/dynamics/hinge.hpp"
 #include "vaw/human/head_demand.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/sim/report.hpp"
@@ -45,6 +50,8 @@
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
+#include "vaw/ui/work_precision_dock.hpp"
+#include "peers/peers.hpp"
 #include "vaw/units.hpp"
 
 using vaw::PartId;
@@ -101,6 +108,7 @@ class TestTuning : public QObject {
   void staticFrictionMovesTheTiltWhereTheBlockStarts();
   void invalidFrictionIsRefusedAndUndoRestores();
   void unstableMethodWarnsBeforeTheGearGainsEnergy();
+  void workPrecisionChartOfTheSelectedGear();
   void savedSettingsReopenAndOldFilesOpen();
   void unsavedTuningIsAskedAbout();
   void dockLayoutSurvivesARestart();
@@ -124,6 +132,8 @@ class TestTuning : public QObject {
   // release to the impact time the world found inside its step) and the height its centre fell.
   std::pair<double, double> dropSleeve();
   void putBlockOnPlate();
+  // Selects the part with a click on its row in the scene tree.
+  void selectInTree(const QString& name);
 
   std::unique_ptr<AssemblyController> controller_;
   std::unique_ptr<MainWindow> window_;
@@ -428,20 +438,7 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   sim().seek(sim().recorder().stepAt(2.5));
   const PartId gear = *assembly().findPart("gear");
   QCOMPARE(stateOf(world(), gear), QStringLiteral("ONBASESLIDE"));
-  // Select the gear with a click in the scene tree.
-  auto* tree = window_->sceneDock()->view();
-  QModelIndex gearIndex;
-  const std::function<void(const QModelIndex&)> find = [&](const QModelIndex& parent) {
-    for (int r = 0; r < tree->model()->rowCount(parent); ++r) {
-      const QModelIndex i = tree->model()->index(r, 0, parent);
-      if (i.data().toString() == QStringLiteral("gear")) gearIndex = i;
-      find(i);
-    }
-  };
-  find({});
-  QVERIFY(gearIndex.isValid());
-  tree->scrollTo(gearIndex);
-  QTest::mouseClick(tree->viewport(), Qt::LeftButton, {}, tree->visualRect(gearIndex).center());
+  selectInTree(QStringLiteral("gear"));
   QTRY_COMPARE(sim().selected(), std::optional<PartId>(gear));
   QVERIFY(window_->stabilityWarning().isEmpty());  // rk4 at 90 Hz
 
@@ -493,6 +490,114 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   QTest::mouseClick(suggestion, Qt::LeftButton);
   QTRY_VERIFY(window_->stabilityWarning().isEmpty());
   QCOMPARE(world().settings().rotationMethod, vaw::dyn::Method::RK4);
+}
+
+void TestTuning::selectInTree(const QString& name) {
+  auto* tree = window_->sceneDock()->view();
+  QModelIndex found;
+  const std::function<void(const QModelIndex&)> find = [&](const QModelIndex& parent) {
+    for (int r = 0; r < tree->model()->rowCount(parent); ++r) {
+      const QModelIndex i = tree->model()->index(r, 0, parent);
+      if (i.data().toString() == name) found = i;
+      find(i);
+    }
+  };
+  find({});
+  QVERIFY2(found.isValid(), qPrintable(name));
+  tree->scrollTo(found);
+  QTest::mouseClick(tree->viewport(), Qt::LeftButton, {}, tree->visualRect(found).center());
+}
+
+// The work-precision chart of the selected gear, computed in the background from the dock's button: every
+// method the hinge offers at every rate, the peers where built, the method and rate the world uses ringed;
+// choosing another method moves the ring without measuring again; Cancel stops a measurement.
+void TestTuning::workPrecisionChartOfTheSelectedGear() {
+  open(QStringLiteral(VAW_GEAR_SESSION));
+  sim().seek(sim().recorder().stepAt(2.5));
+  const PartId gear = *assembly().findPart("gear");
+  selectInTree(QStringLiteral("gear"));
+  QTRY_COMPARE(sim().selected(), std::optional<PartId>(gear));
+  auto* dock = window_->workPrecisionDock();
+  show(dock);
+  const std::string scenario = vaw::ui::WorkPrecisionDock::scenarioFor(world(), gear);
+  QVERIFY(scenario == "gear-pendulum" || scenario == "gear-pendulum-damped");
+  QCOMPARE(dock->scenario(), scenario);  // picked from the gear's model on its shaft
+  QCOMPARE(world().settings().rotationMethod, vaw::dyn::Method::RK4);
+  QCOMPARE(world().settings().rate, 90.0);
+
+  QSignalSpy finished(dock, &vaw::ui::WorkPrecisionDock::finished);
+  auto* compute = dock->findChild<QPushButton*>(QStringLiteral("workPrecisionCompute"));
+  auto* progress = dock->findChild<QProgressBar*>(QStringLiteral("workPrecisionProgress"));
+  QVERIFY(compute != nullptr && progress != nullptr);
+  QTest::mouseClick(compute, Qt::LeftButton);
+  QVERIFY(dock->busy());
+  QVERIFY(!compute->isEnabled());
+  QVERIFY(finished.wait(180000));
+  QVERIFY(!dock->busy());
+  QCOMPARE(progress->value(), progress->maximum());
+
+  // Every method the hinge offers at every standard rate, and each peer engine built in.
+  for (const vaw::dyn::Method m : vaw::dyn::Hinge::kMethods)
+    for (const int rate : vaw::dyn::kStepRates) {
+      const auto& rs = dock->records();
+      const bool found = std::any_of(rs.begin(), rs.end(), [&](const vaw::dyn::Record& r) {
+        return r.scenario == scenario && r.method == vaw::dyn::name(m) && r.stepRate == rate && std::isfinite(r.error);
+      });
+      QVERIFY2(found, qPrintable(QStringLiteral("%1 at %2 Hz").arg(QString::fromLatin1(vaw::dyn::name(m).data())).arg(rate)));
+    }
+  for (const auto& peer : vaw::peers::availablePeers()) {
+    const auto& rs = dock->records();
+    QVERIFY2(std::any_of(rs.begin(), rs.end(), [&](const vaw::dyn::Record& r) { return r.method == peer.name; }), peer.name.c_str());
+  }
+  const auto at = [&](const char* method, double rate) {
+    for (const auto& r : dock->records())
+      if (r.scenario == scenario && r.method == method && r.stepRate == rate) return r;
+    return vaw::dyn::Record{};
+  };
+  // Fourth order against the paper's first-order explicit step: far smaller error at the same rate.
+  QVERIFY(at("rk4", 90).error < 0.01 * at("paper-explicit", 90).error);
+
+  // The ring: rk4 at 90 Hz, drawn at that record's point.
+  auto highlight = dock->highlighted();
+  QVERIFY(highlight.has_value());
+  QCOMPARE(QString::fromStdString(highlight->method), QStringLiteral("rk4"));
+  QCOMPARE(highlight->stepRate, 90.0);
+  const auto ring = [&]() -> QScatterSeries* {
+    for (QAbstractSeries* s : dock->chart()->series())
+      if (s->name().startsWith(QStringLiteral("now: "))) return qobject_cast<QScatterSeries*>(s);
+    return nullptr;
+  };
+  QVERIFY(ring() != nullptr);
+  QCOMPARE(ring()->name(), QStringLiteral("now: rk4 at 90 Hz"));
+  QCOMPARE(ring()->count(), 1);
+  QCOMPARE(ring()->at(0).x(), highlight->cpuPerSimSecond);
+  shot(dock, QStringLiteral("tuning-work-precision.png"));
+  shot(window_.get(), QStringLiteral("tuning-work-precision-window.png"));
+
+  // Another method in the Methods panel: the ring follows, nothing is measured again.
+  auto* methods = window_->methodsDock();
+  show(methods);
+  auto* combo = methods->findChild<QComboBox*>(QStringLiteral("rotationMethod"));
+  combo->setFocus();
+  const int verlet = combo->findText(QStringLiteral("velocity-verlet"));
+  QVERIFY(verlet >= 0);
+  while (combo->currentIndex() > verlet) QTest::keyClick(combo, Qt::Key_Up);
+  while (combo->currentIndex() < verlet) QTest::keyClick(combo, Qt::Key_Down);
+  QTRY_COMPARE(world().settings().rotationMethod, vaw::dyn::Method::VelocityVerlet);
+  QTRY_COMPARE(ring() ? ring()->name() : QString(), QStringLiteral("now: velocity-verlet at 90 Hz"));
+  QCOMPARE(finished.count(), 1);
+
+  // Cancel: the measurement stops, the chart keeps what it had.
+  show(dock);
+  const std::size_t before = dock->records().size();
+  QTest::mouseClick(compute, Qt::LeftButton);
+  QVERIFY(dock->busy());
+  QTest::mouseClick(dock->findChild<QPushButton*>(QStringLiteral("workPrecisionCancel")), Qt::LeftButton);
+  QVERIFY(!dock->busy());
+  QVERIFY(compute->isEnabled());
+  QCOMPARE(dock->records().size(), before);
+  QTest::qWait(100);  // its queued last report arrives and is ignored
+  QCOMPARE(finished.count(), 1);
 }
 
 // Save As writes the scene with the tuning; opened again (File > Open Recent) it starts with it. A file

@@ -35,6 +35,7 @@
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/work_precision_dock.hpp"
 #include "vaw/ui/timeline.hpp"
 #include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
@@ -65,6 +66,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   frictionDock_ = new FrictionDock(this);
   methodsDock_ = new MethodsDock(this);
   motionDock_ = new MotionChartDock(this);
+  workPrecisionDock_ = new WorkPrecisionDock(this);
   undoStack_ = new QUndoStack(this);
   addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
   addDockWidget(Qt::LeftDockWidgetArea, partDock_);
@@ -75,6 +77,9 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   tabifyDockWidget(controlsDock_, gravityDock_);
   tabifyDockWidget(gravityDock_, frictionDock_);
   tabifyDockWidget(frictionDock_, methodsDock_);
+  // Beside the method it measures, in the tall right-hand column that a log-log chart needs.
+  addDockWidget(Qt::RightDockWidgetArea, workPrecisionDock_);
+  tabifyDockWidget(methodsDock_, workPrecisionDock_);
   controlsDock_->raise();
   addDockWidget(Qt::BottomDockWidgetArea, timelineDock_);
   addDockWidget(Qt::BottomDockWidgetArea, messagesDock_);
@@ -314,6 +319,7 @@ void MainWindow::createMenus() {
   view->addAction(frictionDock_->toggleViewAction());
   view->addAction(methodsDock_->toggleViewAction());
   view->addAction(motionDock_->toggleViewAction());
+  view->addAction(workPrecisionDock_->toggleViewAction());
 
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);
@@ -503,6 +509,7 @@ void MainWindow::updateTuning(const std::optional<vaw::sim::StabilityAdvice>& ad
   frictionDock_->model()->showWorld(&w, part);
   const QString name = part ? QString::fromStdString(w.assembly().parts[*part].name) : QString();
   methodsDock_->showWorld(w, advice, name);
+  workPrecisionDock_->showWorld(w, part);
   const bool warn = advice && advice->level != vaw::sim::StabilityAdvice::Level::Stable;
   stabilityStatus_->setVisible(warn);
   QString fix;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <stdexcept>
+#include <string>
 #include <string_view>
 
 #include "vaw/dynamics/free_flight.hpp"
@@ -190,7 +192,7 @@ std::vector<Record> runWorkPrecision(const WorkPrecisionOptions& o, const WorkPr
   const Samples undampedRef = pendulumReference(undamped), dampedRef = pendulumReference(damped);
   std::array<std::vector<Eigen::Quaterniond>, 2> tumbleRefs;
   for (std::size_t i = 0; i < tumbles.size(); ++i)
-    for (int k = 0; k < sampleCount(tumbles[i].duration); ++k)
+    for (int k = 0; o.wants(tumbles[i].name) && k < sampleCount(tumbles[i].duration); ++k)
       tumbleRefs[i].push_back(TorqueFree::reference(tumbleRelease(tumbles[i]), tumbleInertia(tumbles[i]), k * kSampleInterval));
 
   // rk4 is the classic method of the other charts, applied to Euler's equations with the quaternion.
@@ -200,13 +202,24 @@ std::vector<Record> runWorkPrecision(const WorkPrecisionOptions& o, const WorkPr
            : method == "rk4"          ? "classic RK4 on Euler's equations and the quaternion kinematics, renormalized"
                                       : "closed form: Jacobi elliptic body rate by the addition theorem, Simpson's rule on the angle about L";
   };
-  const int total = static_cast<int>(kStepRates.size() *
-                                     (kSlideMethods.size() + 2 * Hinge::kMethods.size() + tumbles.size() * tumbleMethods.size()));
+  const std::vector<int> rates = o.stepRates();
+  for (int rate : rates)
+    if (rate <= 0 || std::abs(rate * kSampleInterval - std::round(rate * kSampleInterval)) > 1e-9)
+      throw std::invalid_argument("work-precision: a step rate of " + std::to_string(rate) +
+                                  " Hz is not a whole number of steps per 0.1 s sample");
+  std::size_t perRate = 0;
+  if (o.wants("slide-with-stop")) perRate += kSlideMethods.size();
+  for (const char* p : {"gear-pendulum", "gear-pendulum-damped"})
+    if (o.wants(p)) perRate += Hinge::kMethods.size();
+  for (const auto& t : tumbles)
+    if (o.wants(t.name)) perRate += tumbleMethods.size();
+  const int total = static_cast<int>(rates.size() * perRate);
   int done = 0;
   const auto tick = [&] { return !progress || progress(++done, total); };
 
-  for (int rate : kStepRates) {
+  for (int rate : rates) {
     for (Method m : kSlideMethods) {
+      if (!o.wants("slide-with-stop")) break;
       Record r{"slide-with-stop", std::string(name(m)), static_cast<double>(rate), 0, 0, "m", true, ""};
       Samples s;
       r.cpuPerSimSecond = medianSeconds([&] { s = runSlide(slide, m, rate); }, o) / slide.duration;
@@ -215,6 +228,7 @@ std::vector<Record> runWorkPrecision(const WorkPrecisionOptions& o, const WorkPr
       if (!tick()) return out;
     }
     for (const auto* p : {&undamped, &damped}) {
+      if (!o.wants(p->fr > 0 ? "gear-pendulum-damped" : "gear-pendulum")) continue;
       const Hinge hinge = makeHinge(*p);
       const double wn = hinge.naturalFrequency(hinge.torque(Eigen::Matrix3d::Identity(), worldGravity()));
       for (Method m : Hinge::kMethods) {
@@ -235,6 +249,7 @@ std::vector<Record> runWorkPrecision(const WorkPrecisionOptions& o, const WorkPr
     // off the reference at the samples.
     for (std::size_t i = 0; i < tumbles.size(); ++i) {
       const TumbleScenario& tumble = tumbles[i];
+      if (!o.wants(tumble.name)) continue;
       const Eigen::Matrix3d inertia = tumbleInertia(tumble);
       const Release release = tumbleRelease(tumble);
       for (const char* method : tumbleMethods) {

@@ -2,9 +2,11 @@
 // Work-precision measurements (docs/work-precision.md): for each scenario, each method and each step
 // size, the CPU time per simulated second and the error against a reference solution. vaw-sim's
 // `work-precision` command writes them as CSV and charts them.
+#include <algorithm>
 #include <array>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "vaw/dynamics/integrators.hpp"
@@ -63,9 +65,23 @@ struct Record {
   std::string note;
 };
 
+// The scenarios' names, as Record::scenario gives them.
+inline constexpr std::array<const char*, 5> kScenarios{"slide-with-stop", "gear-pendulum", "gear-pendulum-damped",
+                                                       "tumbling-block", "tennis-racket"};
+
 struct WorkPrecisionOptions {
   int repeats = 5;               // timings are the median of this many runs
   double minTimedSeconds = 2e-3; // each timed run repeats the scenario until it takes at least this long
+  // Only these scenarios (kScenarios' names); empty: all. The workbench's chart runs the selected part's.
+  std::vector<std::string> scenarios;
+  // The step rates, Hz; empty: kStepRates. Each must be a whole number of steps per kSampleInterval.
+  std::vector<int> rates;
+  [[nodiscard]] bool wants(std::string_view scenario) const {
+    return scenarios.empty() || std::find(scenarios.begin(), scenarios.end(), scenario) != scenarios.end();
+  }
+  [[nodiscard]] std::vector<int> stepRates() const {
+    return rates.empty() ? std::vector<int>(kStepRates.begin(), kStepRates.end()) : rates;
+  }
 };
 
 // Progress: (done, total) runs; return false to stop.

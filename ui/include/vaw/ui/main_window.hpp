@@ -32,6 +32,7 @@ class GravityDock;
 class FrictionDock;
 class MethodsDock;
 class MotionChartDock;
+class WorkPrecisionDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -51,6 +52,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] FrictionDock* frictionDock() const { return frictionDock_; }
   [[nodiscard]] MethodsDock* methodsDock() const { return methodsDock_; }
   [[nodiscard]] MotionChartDock* motionDock() const { return motionDock_; }
+  [[nodiscard]] WorkPrecisionDock* workPrecisionDock() const { return workPrecisionDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -123,6 +125,7 @@ class MainWindow : public QMainWindow {
   FrictionDock* frictionDock_ = nullptr;
   MethodsDock* methodsDock_ = nullptr;
   MotionChartDock* motionDock_ = nullptr;
+  WorkPrecisionDock* workPrecisionDock_ = nullptr;
   bool motionStale_ = true;  // a new world: the motion chart replays it when next shown
   QLabel* stabilityStatus_ = nullptr;
   QString scenePath_;  // where File > Save writes: the scene file opened or last saved as
