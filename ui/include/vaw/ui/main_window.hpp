@@ -7,12 +7,14 @@
 #include <QTimer>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vaw/assembly.hpp"
 #include "vaw/sim/edit.hpp"
 #include "vaw/sim/report.hpp"
 
 class QAction;
+class QDockWidget;
 class QLabel;
 class QMenu;
 class QUndoStack;
@@ -32,6 +34,7 @@ class GravityDock;
 class FrictionDock;
 class MethodsDock;
 class MotionChartDock;
+class TrialsDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -51,6 +54,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] FrictionDock* frictionDock() const { return frictionDock_; }
   [[nodiscard]] MethodsDock* methodsDock() const { return methodsDock_; }
   [[nodiscard]] MotionChartDock* motionDock() const { return motionDock_; }
+  [[nodiscard]] TrialsDock* trialsDock() const { return trialsDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -97,6 +101,9 @@ class MainWindow : public QMainWindow {
   // A tuning edit from a panel: refused with the rule it breaks, or pushed on the undo stack.
   void requestTuning(const vaw::sim::Edit& edit, int mergeKey);
   void updateTuning(const std::optional<vaw::sim::StabilityAdvice>& advice);
+  // A blinded trials session: the gravity panel, the Messages log and the timeline's edit lane keep the
+  // trial's scale to themselves, and the panels that show the fall's speed or duration close until it ends.
+  void setBlinded(bool blinded);
   void addRecent(const QString& path);
   void updateRecentMenu();
   void updateTitle();
@@ -123,6 +130,9 @@ class MainWindow : public QMainWindow {
   FrictionDock* frictionDock_ = nullptr;
   MethodsDock* methodsDock_ = nullptr;
   MotionChartDock* motionDock_ = nullptr;
+  TrialsDock* trialsDock_ = nullptr;
+  bool blinded_ = false;
+  std::vector<QDockWidget*> closedForBlinding_;
   bool motionStale_ = true;  // a new world: the motion chart replays it when next shown
   QLabel* stabilityStatus_ = nullptr;
   QString scenePath_;  // where File > Save writes: the scene file opened or last saved as
