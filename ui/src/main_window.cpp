@@ -103,6 +103,8 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   // VR mode: its own menu and status line; failures and notes land in Messages.
   xr_ = new XrController(*simulation_, viewport_, this);
   xr_->install(menuBar(), statusBar());
+  // Queued: the headset reports hands inside a step, and an answer resets the world for the next trial.
+  connect(xr_, &XrController::handClosed, trialsDock_, &TrialsDock::headsetAnswer, Qt::QueuedConnection);
   connect(xr_, &XrController::failed, this, [this](vaw::xr::Failure, const QString& text) {
     message(static_cast<int>(MessageLogModel::Severity::Error), text);
     statusBar()->showMessage(text, 15000);

@@ -374,12 +374,6 @@ void TrialsDock::resumeFile(const QString& path) {
 }
 
 void TrialsDock::begin(std::unique_ptr<trials::Runner> runner) {
-  // In the headset the world takes its hands from the tracker, so the panel's hand could not hold and drop
-  // the part (docs/trials.md says what VR sessions lack).
-  if (simulation_.hasInputSource()) {
-    showProblem(tr("Leave VR first: the panel plays trials on the desktop only."));
-    return;
-  }
   const QString scene = scenePath(runner->design().scenario);
   if (!QFileInfo::exists(scene)) {
     showProblem(tr("The panel has no scene for the scenario \"%1\" (it plays drop-from-hand; %2 is missing). "
@@ -457,11 +451,14 @@ void TrialsDock::startTrial() {
 
 void TrialsDock::playFall(double scale) {
   simulation_.reset();
+  // In the headset the world takes its hands from the tracker: the participant takes the part and lets it
+  // go, and the desktop's view follows the head.
+  headset_ = simulation_.hasInputSource();
+  const Eigen::Vector3d at = simulation_.world().part(*part_).pose.translation();
   // From in front and a little below the release, far enough back to see the whole fall (the reset framed
   // the part alone).
-  const Eigen::Vector3d at = simulation_.world().part(*part_).pose.translation();
   const Eigen::Vector3d centre(at.x(), at.y(), 0.5 * at.z());
-  emit viewRequested(centre + Eigen::Vector3d(0.0, -1.8 * at.z(), 0.2 * at.z()), centre);
+  if (!headset_) emit viewRequested(centre + Eigen::Vector3d(0.0, -1.8 * at.z(), 0.2 * at.z()), centre);
   vaw::dyn::GravityScales g = *gravityBefore_;
   switch (design_->motion) {
     case trials::MotionKind::FreeFlight: g.freeFlight = scale; break;
@@ -469,7 +466,7 @@ void TrialsDock::playFall(double scale) {
     case trials::MotionKind::Rotation: g.rotation = scale; break;
   }
   simulation_.requestEdit(vaw::sim::GravityEdit{g});
-  simulation_.grab(*part_, at, false);
+  if (!headset_) simulation_.grab(*part_, at, false);
   holdUntil_ = kHold_s;
   phase_ = Phase::Holding;
   if (!paused_) simulation_.play();
@@ -486,7 +483,12 @@ void TrialsDock::frameReady() {
   const bool ownFall = falls_.size() < 2 || fall_ == (runner_->next()->referenceFirst ? 1u : 0u);
   switch (phase_) {
     case Phase::Holding:
-      if (held && t >= holdUntil_) {
+      if (headset_) {
+        if (p.state == vaw::interact::PartState::InSpace) {
+          releasedAt_ = t;
+          phase_ = Phase::Falling;
+        }
+      } else if (held && t >= holdUntil_) {
         simulation_.release();
         releasedAt_ = t;
         phase_ = Phase::Falling;
@@ -521,6 +523,11 @@ void TrialsDock::frameReady() {
       break;
     default: break;
   }
+}
+
+void TrialsDock::headsetAnswer(int hand) {
+  if (!running() || phase_ != Phase::Answering || paused_ || hand < 0 || hand > 1) return;
+  answers_[hand]->click();
 }
 
 void TrialsDock::replay() {
@@ -631,6 +638,7 @@ void TrialsDock::updateControls() {
     const auto& t = runner_->next();
     if (paused_) question = tr("Paused. Press Continue or P to go on.");
     else if (phase_ == Phase::LoadingScene) question = tr("Opening the scenario's scene…");
+    else if (phase_ == Phase::Holding && headset_) question = tr("Take the block and let it go.");
     else if (phase_ != Phase::Answering) question = tr("Watch the part.") + QStringLiteral(" ") + question;
     // An unblinded design may show the scale (a demonstration, a pilot).
     if (t && !t->blinded)

@@ -77,6 +77,8 @@ class TrialsDock : public QDockWidget {
   // Ends the session (its answers are on disk already) and gives the window back its tuning.
   void stop();
   void replay();
+  // In the headset: the left hand closing answers as the first button (or key 1), the right as the second.
+  void headsetAnswer(int hand);
 
  signals:
   // The scenario's scene must be opened (the window asks about unsaved tuning first).
@@ -114,6 +116,7 @@ class TrialsDock : public QDockWidget {
   Phase phase_ = Phase::Idle;
   bool paused_ = false;
   bool blinded_ = false;
+  bool headset_ = false;  // the trial plays in the headset: the participant's own hand drops the part
   std::optional<vaw::dyn::GravityScales> gravityBefore_;  // the scene's tuning before the session
   std::optional<vaw::PartId> part_;                        // the part the scenario drops
   std::vector<double> falls_;                              // the scales this trial plays, in order
