@@ -30,6 +30,7 @@
 
 #include "gui_test_support.hpp"
 #include "vaw/trials/results.hpp"
+#include "vaw/trials/runner.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
@@ -84,6 +85,7 @@ class TestTrials : public QObject {
 
   void malformedDesignIsShownNotThrown();
   void shortSessionByKeysPausesResumesAndAnalyses();
+  void adjustmentAndTwoIntervalAnswers();
 
  private:
   [[nodiscard]] TrialsDock* dock() const { return window_->trialsDock(); }
@@ -95,6 +97,8 @@ class TestTrials : public QObject {
   // Waits for the trial to reach its answer, checks it against the world and answers it with a key: "too
   // fast" when the scale the world played is above 0.4; `shotName`: a screenshot of the window first.
   void answerOne(std::vector<Given>& given, const QString& shotName = {});
+  // Writes `json` as a design, loads it and starts it on a new results file; returns that file.
+  QString startDesign(const QString& name, const QByteArray& json);
 
   std::unique_ptr<AssemblyController> controller_;
   std::unique_ptr<MainWindow> window_;
@@ -160,6 +164,33 @@ void TestTrials::malformedDesignIsShownNotThrown() {
            qPrintable(dock()->problem()));
   QVERIFY(!dock()->findChild<QPushButton*>(QStringLiteral("trialsStart"))->isEnabled());
   QVERIFY(!dock()->running());
+
+  // A results file with a malformed record: resuming and analysing it name the file, the line and the
+  // field, and nothing starts.
+  const QString design = dir_.filePath(QStringLiteral("good.vaw-trial.json"));
+  {
+    QFile good(design);
+    QVERIFY(good.open(QIODevice::WriteOnly));
+    good.write(kDesign);
+  }
+  const QString results = dir_.filePath(QStringLiteral("bad.vaw-results.jsonl"));
+  {
+    auto runner = vaw::trials::Runner::open(vaw::trials::loadDesign(design.toStdString()), results.toStdString());
+    runner.answer(vaw::trials::Answer{vaw::trials::Judgement::TooFast, {}});
+  }
+  {
+    QFile record(results);
+    QVERIFY(record.open(QIODevice::Append));
+    record.write(R"({"answer":"sideways","caught":false,"regrasp_time_s":null,"scale":0.5,"trial":1})" "\n");
+  }
+  QVERIFY(!dock()->analyzeFiles({results}));
+  QVERIFY2(dock()->problem().contains(QStringLiteral("bad.vaw-results.jsonl")) &&
+               dock()->problem().contains(QStringLiteral("line 3.")),
+           qPrintable(dock()->problem()));
+  QVERIFY(dock()->analysis().empty());
+  dock()->resumeFile(results);
+  QVERIFY(!dock()->running());
+  QVERIFY2(dock()->problem().contains(QStringLiteral("line 3")), qPrintable(dock()->problem()));
 }
 
 void TestTrials::answerOne(std::vector<Given>& given, const QString& shotName) {
@@ -300,6 +331,71 @@ void TestTrials::shortSessionByKeysPausesResumesAndAnalyses() {
             (given[i].tooFast ? vaw::trials::Judgement::TooFast : vaw::trials::Judgement::TooSlow));
     QVERIFY(!r.answer.measures.caught);  // nobody took the block back
   }
+}
+
+QString TestTrials::startDesign(const QString& name, const QByteArray& json) {
+  const QString design = dir_.filePath(name + QStringLiteral(".vaw-trial.json"));
+  QFile f(design);
+  if (!f.open(QIODevice::WriteOnly)) return {};
+  f.write(json);
+  f.close();
+  if (!dock()->loadDesign(design)) return {};
+  const QString results = dir_.filePath(name + QStringLiteral(".vaw-results.jsonl"));
+  dock()->setResultsPath(results);
+  QTest::mouseClick(dock()->findChild<QPushButton*>(QStringLiteral("trialsStart")), Qt::LeftButton);
+  return dock()->running() ? results : QString();
+}
+
+// Adjustment: Faster and Slower play the fall again at the scale times or over 1.12, and Accept records the
+// setting. Two intervals: both falls play, the trial's and the reference's, and "first" is recorded.
+void TestTrials::adjustmentAndTwoIntervalAnswers() {
+  const QString adjusted = startDesign(QStringLiteral("adjust"), R"({"format": "vaw-trial-design", "version": 1,
+    "name": "adjust", "participant": "A01", "seed": 5, "scenario": "drop-from-hand", "motion": "free-flight",
+    "question": {"text": "Make the fall look real.", "answers": "setting"},
+    "method": {"kind": "adjustment", "trials": 1, "range": [0.05, 2.0], "start_range": [0.3, 0.6]}})");
+  QVERIFY2(!adjusted.isEmpty(), qPrintable(dock()->problem()));
+  QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 20000);
+  const double start = dock()->runner()->next()->scale;
+  QCOMPARE(world().settings().gravity.freeFlight, start);
+  QVERIFY(dock()->findChild<QPushButton*>(QStringLiteral("trialsAnswer3"))->isVisible());
+  for (const auto& [key, factor] : {std::pair{Qt::Key_2, 1.12}, std::pair{Qt::Key_2, 1.12 * 1.12}, std::pair{Qt::Key_1, 1.12}}) {
+    press(key);
+    QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 20000);
+    QVERIFY2(std::abs(world().settings().gravity.freeFlight - start * factor) < 1e-9 * start,
+             qPrintable(QStringLiteral("%1 after a factor %2 from %3").arg(world().settings().gravity.freeFlight).arg(factor).arg(start)));
+  }
+  const double set = world().settings().gravity.freeFlight;
+  press(Qt::Key_3);
+  QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Done, 5000);
+  {
+    const auto file = vaw::trials::readResults(adjusted.toStdString());
+    QCOMPARE(file.records.size(), std::size_t{1});
+    QCOMPARE(std::get<vaw::trials::Setting>(file.records[0].answer.response).scale, set);
+    QCOMPARE(file.records[0].trial.scale, start);
+  }
+
+  const QString twice = startDesign(QStringLiteral("two"), R"({"format": "vaw-trial-design", "version": 1,
+    "name": "two", "participant": "T01", "seed": 9, "scenario": "drop-from-hand", "motion": "free-flight",
+    "question": {"text": "Which fell faster?", "answers": "two-interval", "reference_scale": 1.0},
+    "method": {"kind": "constant-stimuli", "scales": [0.3, 0.6], "repetitions": 1}})");
+  QVERIFY2(!twice.isEmpty(), qPrintable(dock()->problem()));
+  for (int i = 0; i < 2; ++i) {
+    // The first interval's fall, then the second's; the answers wait for both.
+    const auto& t = *dock()->runner()->next();
+    const double first = t.referenceFirst ? *t.referenceScale : t.scale, second = t.referenceFirst ? t.scale : *t.referenceScale;
+    QTRY_VERIFY_WITH_TIMEOUT(world().settings().gravity.freeFlight == first && dock()->phase() == TrialsDock::Phase::Falling, 20000);
+    QVERIFY(!dock()->findChild<QPushButton*>(QStringLiteral("trialsAnswer1"))->isEnabled());
+    QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 20000);
+    QCOMPARE(world().settings().gravity.freeFlight, second);
+    QVERIFY(dock()->findChild<QPushButton*>(QStringLiteral("trialsAnswer1"))->text().startsWith(QStringLiteral("First")));
+    press(Qt::Key_1);
+    QTRY_VERIFY(dock()->phase() != TrialsDock::Phase::Answering);
+  }
+  QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Done, 5000);
+  const auto file = vaw::trials::readResults(twice.toStdString());
+  QCOMPARE(file.records.size(), std::size_t{2});
+  for (const auto& r : file.records)
+    QVERIFY(std::get<vaw::trials::Judgement>(r.answer.response) == vaw::trials::Judgement::First);
 }
 
 QTEST_MAIN(TestTrials)

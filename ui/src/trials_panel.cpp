@@ -94,7 +94,8 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   designField_->setObjectName(QStringLiteral("trialsDesign"));
   designField_->setReadOnly(true);
   designField_->setPlaceholderText(tr("no design"));
-  auto* openDesign = new QPushButton(tr("Open…"), setup);
+  openDesign_ = new QPushButton(tr("Open…"), setup);
+  auto* openDesign = openDesign_;
   openDesign->setObjectName(QStringLiteral("trialsOpenDesign"));
   designRow->addWidget(designField_, 1);
   designRow->addWidget(openDesign);
@@ -105,7 +106,6 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   const QDir bundled(qPath(vaw::resourceDir() / "trials"));
   for (const QFileInfo& f : bundled.entryInfoList({QStringLiteral("*") + kDesignSuffix}, QDir::Files, QDir::Name))
     examples_->addItem(f.fileName(), f.absoluteFilePath());
-  examples_->setEnabled(examples_->count() > 1);
   form->addRow(QString(), examples_);
   participant_ = new QLineEdit(setup);
   participant_->setObjectName(QStringLiteral("trialsParticipant"));
@@ -125,7 +125,8 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   start_ = new QPushButton(tr("Start / Resume"), setup);
   start_->setObjectName(QStringLiteral("trialsStart"));
   start_->setToolTip(tr("Runs the design; a results file with answers already is resumed at its first unanswered trial"));
-  auto* resume = new QPushButton(tr("Resume File…"), setup);
+  resumeFile_ = new QPushButton(tr("Resume File…"), setup);
+  auto* resume = resumeFile_;
   resume->setObjectName(QStringLiteral("trialsResumeFile"));
   resume->setToolTip(tr("Resumes a results file with the design its header carries"));
   pause_ = new QPushButton(setup);
@@ -228,7 +229,11 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
     if (index > 0) loadDesign(examples_->itemData(index).toString());
     examples_->setCurrentIndex(0);
   });
-  connect(participant_, &QLineEdit::textEdited, this, [this] { setResultsPath({}); });
+  // The default results file follows the participant; one the user chose stays.
+  connect(participant_, &QLineEdit::textEdited, this, [this] {
+    if (!resultsChosen_) setResultsPath({});
+  });
+  connect(results_, &QLineEdit::textEdited, this, [this] { resultsChosen_ = true; });
   connect(chooseResults, &QPushButton::clicked, this, [this] {
     const QString file = QFileDialog::getSaveFileName(this, tr("Results file"), resultsPath(),
                                                       tr("Results (*.vaw-results.jsonl)"), nullptr,
@@ -319,10 +324,11 @@ bool TrialsDock::loadDesign(const QString& path) {
 
 void TrialsDock::setParticipant(const QString& id) {
   participant_->setText(id);
-  setResultsPath({});
+  if (!resultsChosen_) setResultsPath({});
 }
 
 void TrialsDock::setResultsPath(const QString& path) {
+  resultsChosen_ = !path.isEmpty();
   if (!path.isEmpty() || designPath_.isEmpty()) {
     results_->setText(path);
     return;
@@ -366,7 +372,7 @@ void TrialsDock::resumeFile(const QString& path) {
     designPath_.clear();
     designField_->setText(tr("(from %1)").arg(QFileInfo(path).fileName()));
     participant_->setText(QString::fromStdString(design_->participant));
-    results_->setText(path);
+    setResultsPath(path);
     begin(std::move(runner));
   } catch (const std::exception& e) {
     showProblem(QString::fromUtf8(e.what()));
@@ -405,7 +411,6 @@ void TrialsDock::begin(std::unique_ptr<trials::Runner> runner) {
     updateControls();
     emit openSceneRequested(scene);
   }
-  emit progressed();
 }
 
 QString TrialsDock::scenePath(trials::Scenario scenario) const {
@@ -446,7 +451,6 @@ void TrialsDock::startTrial() {
   caught_ = false;
   regrasp_.reset();
   playFall(falls_[0]);
-  emit progressed();
 }
 
 void TrialsDock::playFall(double scale) {
@@ -568,7 +572,6 @@ void TrialsDock::togglePause() {
   updateControls();
   // The answers are disabled while paused: the keyboard stays on the one button that goes on.
   if (paused_) pause_->setFocus(Qt::OtherFocusReason);
-  emit progressed();
 }
 
 void TrialsDock::stop() {
@@ -597,7 +600,6 @@ void TrialsDock::endSession() {
   if (blinded_) emit blindingChanged(false);
   blinded_ = false;
   updateControls();
-  emit progressed();
 }
 
 void TrialsDock::restoreGravity() {
@@ -609,6 +611,9 @@ void TrialsDock::updateControls() {
   const bool session = running();
   const bool answering = session && phase_ == Phase::Answering && !paused_;
   start_->setEnabled(!session && design_.has_value());
+  openDesign_->setEnabled(!session);
+  resumeFile_->setEnabled(!session);
+  examples_->setEnabled(!session && examples_->count() > 1);
   pause_->setEnabled(session);
   pause_->setText(paused_ ? tr("Continue  [P]") : tr("Pause  [P]"));
   pauseKey_->setEnabled(session);

@@ -85,8 +85,6 @@ class TrialsDock : public QDockWidget {
   void openSceneRequested(const QString& path);
   // A blinded session starts (true) or ends (false): the window hides and shows the scale.
   void blindingChanged(bool blinded);
-  // The session started, resumed, paused, answered or ended.
-  void progressed();
   // Where the 3D view should look from for the trial (world, m): the whole fall in view.
   void viewRequested(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre);
 
@@ -112,6 +110,7 @@ class TrialsDock : public QDockWidget {
 
   std::optional<trials::Design> design_;
   QString designPath_;
+  bool resultsChosen_ = false;  // the results file was chosen, not named from the participant
   std::unique_ptr<trials::Runner> runner_;
   Phase phase_ = Phase::Idle;
   bool paused_ = false;
@@ -132,6 +131,7 @@ class TrialsDock : public QDockWidget {
   QLineEdit* designField_ = nullptr;
   QLineEdit* participant_ = nullptr;
   QLineEdit* results_ = nullptr;
+  QPushButton *openDesign_ = nullptr, *resumeFile_ = nullptr;
   QPushButton *start_ = nullptr, *pause_ = nullptr, *stop_ = nullptr, *replay_ = nullptr;
   QLabel* question_ = nullptr;
   QProgressBar* progress_ = nullptr;
