@@ -163,7 +163,11 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     statusBar()->showMessage(tr("Refused: %1").arg(rule), 10000);
   });
   connect(undoStack_, &QUndoStack::cleanChanged, this, &MainWindow::updateTitle);
-  connect(trialsDock_, &TrialsDock::openSceneRequested, this, &MainWindow::openFile);
+  // Declining to drop unsaved tuning for the scenario's scene stops the session before its first trial.
+  connect(trialsDock_, &TrialsDock::openSceneRequested, this, [this](const QString& path) {
+    if (maybeSave()) controller_.open(path);
+    else trialsDock_->stop();
+  });
   connect(trialsDock_, &TrialsDock::blindingChanged, this, &MainWindow::setBlinded);
   connect(trialsDock_, &TrialsDock::viewRequested, viewport_, &Viewport::lookAt);
   // Hidden, the motion chart does not sample: shown again, it replays what it missed.

@@ -116,7 +116,8 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   results_->setObjectName(QStringLiteral("trialsResults"));
   results_->setToolTip(tr("The results file: answers are appended and synced one by one; an existing file of the same "
                           "design is resumed"));
-  auto* chooseResults = new QPushButton(tr("…"), setup);
+  chooseResults_ = new QPushButton(tr("…"), setup);
+  auto* chooseResults = chooseResults_;
   chooseResults->setObjectName(QStringLiteral("trialsChooseResults"));
   resultsRow->addWidget(results_, 1);
   resultsRow->addWidget(chooseResults);
@@ -277,14 +278,24 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   // The scenario's scene: the window's load handler starts its world first, then the session goes on.
   connect(&assembly_, &AssemblyController::assemblyLoaded, this,
           [this] {
-            if (phase_ == Phase::LoadingScene) sceneLoaded();
+            if (phase_ != Phase::LoadingScene) return;
+            // Another file opened meanwhile is not the scenario's scene, whose part the trials drop.
+            if (QFileInfo(assembly_.currentPath()).canonicalFilePath() !=
+                QFileInfo(scenePath(design_->scenario)).canonicalFilePath()) {
+              showProblem(tr("Another file was opened instead of the scenario's scene; the session is stopped."));
+              endSession();
+              return;
+            }
+            sceneLoaded();
           },
           Qt::QueuedConnection);
-  connect(&assembly_, &AssemblyController::loadFailed, this, [this] {
+  const auto notOpened = [this] {
     if (phase_ != Phase::LoadingScene) return;
-    showProblem(tr("The scenario's scene could not be opened (see Messages); the session is stopped."));
+    showProblem(tr("The scenario's scene was not opened (see Messages); the session is stopped."));
     endSession();
-  });
+  };
+  connect(&assembly_, &AssemblyController::loadFailed, this, notOpened);
+  connect(&assembly_, &AssemblyController::loadCancelled, this, notOpened);
   connect(&simulation_, &SimulationController::frameReady, this, &TrialsDock::frameReady);
   connect(&simulation_, &SimulationController::editRefused, this, [this](const QString& reason) {
     if (running()) showProblem(tr("The world refused the trial's scale: %1").arg(reason));
@@ -383,7 +394,7 @@ void TrialsDock::begin(std::unique_ptr<trials::Runner> runner) {
   const QString scene = scenePath(runner->design().scenario);
   if (!QFileInfo::exists(scene)) {
     showProblem(tr("The panel has no scene for the scenario \"%1\" (it plays drop-from-hand; %2 is missing). "
-                   "`vaw-sim trials simulate` runs any scenario.")
+                   "vaw-sim trials simulate runs any scenario.")
                     .arg(str(trials::name(runner->design().scenario)), scene));
     return;
   }
@@ -622,6 +633,7 @@ void TrialsDock::updateControls() {
   replayKey_->setEnabled(answering);
   participant_->setEnabled(!session);
   results_->setEnabled(!session);
+  chooseResults_->setEnabled(!session);
   const trials::AnswerKind kind = design_ ? design_->question.answers : trials::AnswerKind::TooFastTooSlow;
   QString labels[3];
   switch (kind) {

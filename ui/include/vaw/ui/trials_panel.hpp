@@ -131,7 +131,7 @@ class TrialsDock : public QDockWidget {
   QLineEdit* designField_ = nullptr;
   QLineEdit* participant_ = nullptr;
   QLineEdit* results_ = nullptr;
-  QPushButton *openDesign_ = nullptr, *resumeFile_ = nullptr;
+  QPushButton *openDesign_ = nullptr, *resumeFile_ = nullptr, *chooseResults_ = nullptr;
   QPushButton *start_ = nullptr, *pause_ = nullptr, *stop_ = nullptr, *replay_ = nullptr;
   QLabel* question_ = nullptr;
   QProgressBar* progress_ = nullptr;
