@@ -21,9 +21,11 @@
 #include "gui_test_support.hpp"
 #include "sim_runtime.hpp"
 #include "vaw/paths.hpp"
+#include "vaw/trials/results.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/trials_panel.hpp"
 #include "vaw/ui/viewport.hpp"
 #include "vaw/ui/xr_controller.hpp"
 
@@ -108,6 +110,7 @@ class TestXr : public QObject {
   void runtimeCrashReturnsToTheDesktop();
   void withoutHandTrackingTheControllersGrab();
   void bothHandsTakeATwoHandPart();
+  void trialsAreDroppedAndAnsweredWithTheHands();
   void noRuntimeAndNoHeadsetSaySo();
 
  private:
@@ -430,6 +433,66 @@ void TestXr::withoutHandTrackingTheControllersGrab() {
   QVERIFY2(eventsOf(world().transitions(), block).startsWith(QStringLiteral("grab:INHAND@")),
            qPrintable(eventsOf(world().transitions(), block)));
   QVERIFY((world().part(block).pose.translation() - com).z() > 0.05);
+  checkSpecification();
+}
+
+// A trials session in the headset: the participant's right hand takes the block and lets it go, and a pinch
+// answers, the left hand as the first button ("too slow"), the right as the second ("too fast").
+void TestXr::trialsAreDroppedAndAnsweredWithTheHands() {
+  open(QStringLiteral("drop-from-hand.vaw.json"));
+  const PartId block = *assembly().findPart("block");
+  const Eigen::Vector3d at = world().part(block).pose.translation(), aside = at + Eigen::Vector3d(-0.3, 0.0, -0.3);
+  const QString design = dir_.filePath(QStringLiteral("vr.vaw-trial.json"));
+  {
+    QFile f(design);
+    QVERIFY(f.open(QIODevice::WriteOnly));
+    f.write(R"({"format": "vaw-trial-design", "version": 1, "name": "VR", "participant": "V01", "seed": 3,
+      "scenario": "drop-from-hand", "motion": "free-flight",
+      "question": {"text": "Too fast or too slow?", "answers": "too-fast-too-slow"},
+      "method": {"kind": "constant-stimuli", "scales": [0.25, 1.0], "repetitions": 1}})");
+  }
+  vaw::ui::TrialsDock* trials = window_->trialsDock();
+  QVERIFY(trials->loadDesign(design));
+  const QString results = dir_.filePath(QStringLiteral("vr.vaw-results.jsonl"));
+  trials->setResultsPath(results);
+  // Each hand open (pinch gap 8 cm) except over the given intervals (1.5 cm), with sharp edges.
+  const auto hand = [](const Eigen::Vector3d& where, const std::vector<std::pair<double, double>>& pinches, double end) {
+    QJsonArray keys;
+    const auto key = [&](double t, double gap) {
+      keys.append(QJsonObject{{QStringLiteral("t"), t}, {QStringLiteral("position"), stage(where)}, {QStringLiteral("pinch"), gap}});
+    };
+    key(0.0, 0.08);
+    for (const auto& [from, to] : pinches) {
+      key(from, 0.08);
+      key(from + 0.04, 0.015);
+      key(to, 0.015);
+      key(to + 0.04, 0.08);
+    }
+    key(end, 0.08);
+    return keys;
+  };
+  constexpr double kEnd = 7.5;
+  // The right hand drops the block at 1.0-1.6 s and 4.0-4.6 s (held still longer than the release estimator's
+  // window) and answers at 6.0 s; the left answers at 3.0 s, each after the block has landed.
+  script(QJsonObject{{QStringLiteral("duration"), kEnd},
+                     {QStringLiteral("right"), hand(at, {{1.0, 1.6}, {4.0, 4.6}, {6.0, 6.3}}, kEnd)},
+                     {QStringLiteral("left"), hand(aside, {{3.0, 3.3}}, kEnd)}});
+  xr().enter();
+  QTRY_VERIFY_WITH_TIMEOUT(xr().mode() == vaw::ui::XrController::Mode::Headset && sim().hasInputSource(), 20000);
+  trials->start();
+  QVERIFY2(trials->running(), qPrintable(trials->problem()));
+  QTRY_VERIFY_WITH_TIMEOUT(!xr().inHeadset(), 60000);
+  QVERIFY2(failures_.isEmpty(), qPrintable(failures_.isEmpty() ? QString() : failures_.front().second));
+  QVERIFY2(trials->phase() == vaw::ui::TrialsDock::Phase::Done, qPrintable(trials->notice() + trials->problem()));
+  const vaw::trials::ResultsFile file = vaw::trials::readResults(std::filesystem::path(QFile::encodeName(results).toStdString()));
+  QCOMPARE(file.records.size(), std::size_t{2});
+  QVERIFY(std::get<vaw::trials::Judgement>(file.records[0].answer.response) == vaw::trials::Judgement::TooSlow);
+  QVERIFY(std::get<vaw::trials::Judgement>(file.records[1].answer.response) == vaw::trials::Judgement::TooFast);
+  QVERIFY(file.records[0].trial.scale != file.records[1].trial.scale);
+  // The second fall was the participant's: the right hand took the block, and it left that hand.
+  const QString events = eventsOf(world().transitions(), block);
+  QVERIFY2(events.startsWith(QStringLiteral("grab:INHAND@")) && events.contains(QStringLiteral("release:INSPACE@")),
+           qPrintable(events));
   checkSpecification();
 }
 

@@ -20,6 +20,7 @@
 #include <QMenuBar>
 #include <QStatusBar>
 #include <QToolBar>
+#include <algorithm>
 #include <cmath>
 
 #include "format.hpp"
@@ -37,6 +38,7 @@
 #include "vaw/ui/motion_chart.hpp"
 #include "vaw/ui/work_precision_dock.hpp"
 #include "vaw/ui/timeline.hpp"
+#include "vaw/ui/trials_panel.hpp"
 #include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
 #include "vaw/ui/xr_controller.hpp"
@@ -67,6 +69,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   methodsDock_ = new MethodsDock(this);
   motionDock_ = new MotionChartDock(this);
   workPrecisionDock_ = new WorkPrecisionDock(this);
+  trialsDock_ = new TrialsDock(*simulation_, controller_, this);
   undoStack_ = new QUndoStack(this);
   addDockWidget(Qt::LeftDockWidgetArea, sceneDock_);
   addDockWidget(Qt::LeftDockWidgetArea, partDock_);
@@ -74,12 +77,14 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   addDockWidget(Qt::RightDockWidgetArea, gravityDock_);
   addDockWidget(Qt::RightDockWidgetArea, frictionDock_);
   addDockWidget(Qt::RightDockWidgetArea, methodsDock_);
+  addDockWidget(Qt::RightDockWidgetArea, trialsDock_);
   tabifyDockWidget(controlsDock_, gravityDock_);
   tabifyDockWidget(gravityDock_, frictionDock_);
   tabifyDockWidget(frictionDock_, methodsDock_);
   // Beside the method it measures, in the tall right-hand column that a log-log chart needs.
   addDockWidget(Qt::RightDockWidgetArea, workPrecisionDock_);
   tabifyDockWidget(methodsDock_, workPrecisionDock_);
+  tabifyDockWidget(workPrecisionDock_, trialsDock_);
   controlsDock_->raise();
   addDockWidget(Qt::BottomDockWidgetArea, timelineDock_);
   addDockWidget(Qt::BottomDockWidgetArea, messagesDock_);
@@ -103,6 +108,8 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   // VR mode: its own menu and status line; failures and notes land in Messages.
   xr_ = new XrController(*simulation_, viewport_, this);
   xr_->install(menuBar(), statusBar());
+  // Queued: the headset reports hands inside a step, and an answer resets the world for the next trial.
+  connect(xr_, &XrController::handClosed, trialsDock_, &TrialsDock::headsetAnswer, Qt::QueuedConnection);
   connect(xr_, &XrController::failed, this, [this](vaw::xr::Failure, const QString& text) {
     message(static_cast<int>(MessageLogModel::Severity::Error), text);
     statusBar()->showMessage(text, 15000);
@@ -161,6 +168,13 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     statusBar()->showMessage(tr("Refused: %1").arg(rule), 10000);
   });
   connect(undoStack_, &QUndoStack::cleanChanged, this, &MainWindow::updateTitle);
+  // Declining to drop unsaved tuning for the scenario's scene stops the session before its first trial.
+  connect(trialsDock_, &TrialsDock::openSceneRequested, this, [this](const QString& path) {
+    if (maybeSave()) controller_.open(path);
+    else trialsDock_->stop();
+  });
+  connect(trialsDock_, &TrialsDock::blindingChanged, this, &MainWindow::setBlinded);
+  connect(trialsDock_, &TrialsDock::viewRequested, viewport_, &Viewport::lookAt);
   // Hidden, the motion chart does not sample: shown again, it replays what it missed.
   connect(motionDock_, &QDockWidget::visibilityChanged, this, [this](bool visible) {
     if (!visible) return;
@@ -182,7 +196,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     statusBar()->showMessage(text, 10000);
   });
   connect(simulation_, &SimulationController::editApplied, this, [this](const QString& text) {
-    message(static_cast<int>(MessageLogModel::Severity::Info), tr("Edit applied: %1").arg(text));
+    if (!blinded_) message(static_cast<int>(MessageLogModel::Severity::Info), tr("Edit applied: %1").arg(text));
     updateLive();
   });
   connect(simulation_, &SimulationController::editRefused, this, [this](const QString& text) {
@@ -320,6 +334,7 @@ void MainWindow::createMenus() {
   view->addAction(methodsDock_->toggleViewAction());
   view->addAction(motionDock_->toggleViewAction());
   view->addAction(workPrecisionDock_->toggleViewAction());
+  view->addAction(trialsDock_->toggleViewAction());
 
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);
@@ -621,6 +636,8 @@ void MainWindow::closeEvent(QCloseEvent* event) {
     event->ignore();
     return;
   }
+  // The layout kept is the user's, not the one a blinded trials session closed panels in.
+  if (blinded_) setBlinded(false);
   QSettings settings;
   settings.setValue(QStringLiteral("window/geometry"), saveGeometry());
   settings.setValue(QStringLiteral("window/state"), saveState());
@@ -709,10 +726,33 @@ void MainWindow::showBindings() {
   dialog.exec();
 }
 
+void MainWindow::setBlinded(bool blinded) {
+  blinded_ = blinded;
+  gravityDock_->setBlinded(blinded);
+  // The inspector's speeds, the timeline's state durations and the motion chart would each give the scale
+  // away; those that were open come back afterwards.
+  if (blinded) {
+    for (QDockWidget* d : {static_cast<QDockWidget*>(partDock_), static_cast<QDockWidget*>(timelineDock_),
+                           static_cast<QDockWidget*>(motionDock_)})
+      if (d->toggleViewAction()->isChecked()) {
+        closedForBlinding_.push_back(d);
+        d->hide();
+      }
+  } else {
+    for (QDockWidget* d : closedForBlinding_) d->show();
+    // Shown again, a tabbed panel is not the current tab; the timeline was, as it is after a start.
+    if (std::find(closedForBlinding_.begin(), closedForBlinding_.end(), timelineDock_) != closedForBlinding_.end())
+      timelineDock_->raise();
+    closedForBlinding_.clear();
+  }
+  logChanged();
+}
+
 void MainWindow::logChanged() {
   if (!simulation_->hasWorld()) return;
   const vaw::sim::Recorder& r = simulation_->recorder();
-  timelineDock_->model()->setLog(&r.scene().assembly(), r.transitions(), r.refusals(), r.edits());
+  timelineDock_->model()->setLog(&r.scene().assembly(), r.transitions(), r.refusals(),
+                                 blinded_ ? std::vector<vaw::sim::EditRecord>{} : r.edits());
   timelineDock_->view()->setTimes(r.world().time(), r.endTime(), !r.atEnd(), simulation_->isPlayback());
 }
 

@@ -256,6 +256,12 @@ GravityDock::GravityDock(QWidget* parent) : QDockWidget(tr("Gravity"), parent) {
   presets->addWidget(paper);
   grid->addRow(tr("Presets"), presets);
   layout->addWidget(scalesBox);
+  scalesBox_ = scalesBox;
+  blindNote_ = new QLabel(tr("The gravity scales are hidden while a blinded trials session runs (Trials panel)."), body);
+  blindNote_->setObjectName(QStringLiteral("gravityBlindNote"));
+  blindNote_->setWordWrap(true);
+  blindNote_->hide();
+  layout->addWidget(blindNote_);
   connect(real, &QPushButton::clicked, this, [this] { emit editRequested(vaw::sim::GravityEdit{{1.0, 1.0, 1.0}}, -1); });
   connect(paper, &QPushButton::clicked, this, [this] { emit editRequested(vaw::sim::GravityEdit{{0.25, 1.0, 1.0}}, -1); });
 
@@ -301,6 +307,7 @@ GravityDock::GravityDock(QWidget* parent) : QDockWidget(tr("Gravity"), parent) {
   apply_->setObjectName(QStringLiteral("headApply"));
   form->addRow(QString(), apply_);
   layout->addWidget(demandBox);
+  demandBox_ = demandBox;
   layout->addStretch(1);
   setWidget(body);
   for (QDoubleSpinBox* s : {distance_, fallHeight_, pitchLimit_, accelLimit_})
@@ -349,7 +356,15 @@ void GravityDock::request(int key, double factor) {
   emit editRequested(vaw::sim::GravityEdit{g}, key);
 }
 
+void GravityDock::setBlinded(bool blinded) {
+  blinded_ = blinded;
+  scalesBox_->setVisible(!blinded);
+  blindNote_->setVisible(blinded);
+  demandBox_->setEnabled(!blinded);
+}
+
 void GravityDock::showWorld(const vaw::sim::World& world) {
+  if (blinded_) return;
   shown_ = world.settings().gravity;
   const double values[3] = {shown_.freeFlight, shown_.slide, shown_.rotation};
   for (int i = 0; i < 3; ++i) {

@@ -385,6 +385,14 @@ void Viewport::resetView() {
   autoFit_ = true;
 }
 
+void Viewport::lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre) {
+  Qt3DRender::QCamera* cam = view_->camera();
+  cam->setUpVector(QVector3D(0.0f, 0.0f, 1.0f));
+  cam->setPosition(toQ(eye));
+  cam->setViewCenter(toQ(centre));
+  autoFit_ = false;
+}
+
 Eigen::AlignedBox3d Viewport::partsBounds() const {
   Eigen::AlignedBox3d box;
   for (const PartVisual& v : parts_) box.extend(worldBox(v.local, v.pose));

@@ -249,6 +249,7 @@ void XrController::startDriving() {
   if (!simulation_) return;
   driving_ = true;
   anchored_ = false;
+  handsClosed_ = {};
   simulation_->setExternalPacing(true);
   simulation_->setInputSource([this](double stepEndTime) { return inputAt(stepEndTime); });
   if (simulation_->hasWorld() && !simulation_->isPlaying() && !simulation_->isPlayback()) simulation_->play();
@@ -303,7 +304,13 @@ const vaw::view::Frame* XrController::simulate(const xr::FrameTiming& timing) {
 vaw::sim::Input XrController::inputAt(double stepEndTime) {
   const auto time = anchorXr_ + static_cast<std::int64_t>(std::llround((stepEndTime - anchorSim_) / anchorSpeed_ * 1e9));
   const xr::HandsSample sample = backend_ ? backend_->sampleHands(time) : xr::HandsSample{};
-  return hands_->next(sample, simulation_->world(), simulation_->hoist());
+  vaw::sim::Input input = hands_->next(sample, simulation_->world(), simulation_->hoist());
+  for (int k = 0; k < 2; ++k) {
+    const bool closed = hands_->closed(k);
+    if (closed && !handsClosed_[static_cast<std::size_t>(k)]) emit handClosed(k);
+    handsClosed_[static_cast<std::size_t>(k)] = closed;
+  }
+  return input;
 }
 
 void XrController::mirror(const xr::FrameResult& frame) {

@@ -7,12 +7,14 @@
 #include <QTimer>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "vaw/assembly.hpp"
 #include "vaw/sim/edit.hpp"
 #include "vaw/sim/report.hpp"
 
 class QAction;
+class QDockWidget;
 class QLabel;
 class QMenu;
 class QUndoStack;
@@ -33,6 +35,7 @@ class FrictionDock;
 class MethodsDock;
 class MotionChartDock;
 class WorkPrecisionDock;
+class TrialsDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -53,6 +56,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] MethodsDock* methodsDock() const { return methodsDock_; }
   [[nodiscard]] MotionChartDock* motionDock() const { return motionDock_; }
   [[nodiscard]] WorkPrecisionDock* workPrecisionDock() const { return workPrecisionDock_; }
+  [[nodiscard]] TrialsDock* trialsDock() const { return trialsDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -99,6 +103,9 @@ class MainWindow : public QMainWindow {
   // A tuning edit from a panel: refused with the rule it breaks, or pushed on the undo stack.
   void requestTuning(const vaw::sim::Edit& edit, int mergeKey);
   void updateTuning(const std::optional<vaw::sim::StabilityAdvice>& advice);
+  // A blinded trials session: the gravity panel, the Messages log and the timeline's edit lane keep the
+  // trial's scale to themselves, and the panels that show the fall's speed or duration close until it ends.
+  void setBlinded(bool blinded);
   void addRecent(const QString& path);
   void updateRecentMenu();
   void updateTitle();
@@ -126,6 +133,9 @@ class MainWindow : public QMainWindow {
   MethodsDock* methodsDock_ = nullptr;
   MotionChartDock* motionDock_ = nullptr;
   WorkPrecisionDock* workPrecisionDock_ = nullptr;
+  TrialsDock* trialsDock_ = nullptr;
+  bool blinded_ = false;
+  std::vector<QDockWidget*> closedForBlinding_;
   bool motionStale_ = true;  // a new world: the motion chart replays it when next shown
   QLabel* stabilityStatus_ = nullptr;
   QString scenePath_;  // where File > Save writes: the scene file opened or last saved as

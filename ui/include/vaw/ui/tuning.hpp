@@ -99,6 +99,10 @@ class GravityDock : public QDockWidget {
  public:
   explicit GravityDock(QWidget* parent = nullptr);
   void showWorld(const vaw::sim::World& world);
+  // While a blinded trials session runs, the scales are hidden and left as they were (the world's are the
+  // trial's, which the participant must not see), and nothing here can change them.
+  void setBlinded(bool blinded);
+  [[nodiscard]] bool isBlinded() const { return blinded_; }
 
  signals:
   void editRequested(const vaw::sim::Edit& edit, int mergeKey);
@@ -114,6 +118,10 @@ class GravityDock : public QDockWidget {
   void updateDemand();
 
   Scale scales_[3];  // free flight, slide, rotation
+  QWidget* scalesBox_ = nullptr;
+  QWidget* demandBox_ = nullptr;
+  QLabel* blindNote_ = nullptr;
+  bool blinded_ = false;
   vaw::dyn::GravityScales shown_;
   QDoubleSpinBox *distance_ = nullptr, *fallHeight_ = nullptr, *pitchLimit_ = nullptr, *accelLimit_ = nullptr;
   QCheckBox* useAccel_ = nullptr;

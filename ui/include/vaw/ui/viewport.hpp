@@ -104,6 +104,8 @@ class Viewport : public QWidget {
   void fitToView();
   // Frames the parts where they are now from the default direction (front, right, above; z up).
   void resetView();
+  // Looks from `eye` at `centre` (world, m; z up) and keeps that view when the window resizes.
+  void lookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre);
 
  signals:
   void partSelected(std::optional<vaw::PartId> part);

@@ -17,6 +17,7 @@
 #include <QVector3D>
 #include <cstdint>
 #include <memory>
+#include <array>
 #include <optional>
 
 #include "vaw/ui/xr.hpp"
@@ -74,6 +75,9 @@ class XrController : public QObject {
   // What the runtime or the plugin said that the user should know (hands or controllers, validation).
   void notice(const QString& text, bool warning);
   void frameShown();
+  // A hand (0 left, 1 right) closed: a pinch, a grip or a controller's select began. Emitted inside a
+  // simulation step, so a receiver that resets or edits the world must connect queued.
+  void handClosed(int hand);
 
  private:
   void loop();
@@ -103,6 +107,7 @@ class XrController : public QObject {
   std::unique_ptr<QOffscreenSurface> surface_;
   std::unique_ptr<xr::Backend> backend_;
   std::optional<xr::HandMapper> hands_;
+  std::array<bool, 2> handsClosed_{};  // as the last step saw them, across resets (a new mapper starts open)
   QTimer timer_;
   bool driving_ = false;
 
