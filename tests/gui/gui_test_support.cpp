@@ -3,7 +3,12 @@
 #include <Qt3DExtras/Qt3DWindow>
 #include <Qt3DRender/QRenderCapture>
 #include <QRegularExpression>
+#include <QApplication>
 #include <QLineEdit>
+#include <QMainWindow>
+#include <QPixmap>
+#include <QScreen>
+#include <QStatusBar>
 #include <QSignalSpy>
 #include <QTest>
 #include <memory>
@@ -110,5 +115,21 @@ QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId id, 
 }
 
 QString shotPath(const QString& name) { return QStringLiteral(VAW_GUI_SHOT_DIR "/") + name; }
+
+void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers) {
+  if (QApplication::activeWindow() != window || QGuiApplication::focusWindow() != window->windowHandle()) {
+    QTest::mouseClick(window->statusBar(), Qt::LeftButton);
+    window->activateWindow();
+    QVERIFY(QTest::qWaitForWindowActive(window));
+  }
+  QWidget* target = QApplication::focusWidget() != nullptr ? QApplication::focusWidget() : window;
+  QTest::keyClick(target, static_cast<Qt::Key>(key), modifiers);
+}
+
+void shot(QMainWindow* window, QWidget* widget, const QString& name) {
+  QTest::qWait(150);
+  const QPixmap p = widget == window ? window->screen()->grabWindow(window->winId()) : widget->grab();
+  QVERIFY(p.save(shotPath(name)));
+}
 
 }  // namespace vaw::guitest

@@ -12,6 +12,9 @@
 
 #include "vaw/assembly.hpp"
 
+class QMainWindow;
+class QWidget;
+
 namespace vaw::ui {
 class Viewport;
 }
@@ -38,7 +41,14 @@ void pressAndDrag(QWindow* window, const QPoint& from, const QPoint& to, int ste
 // Types `text` into a spin box: focus, select all, the keys, Return.
 void typeInto(QAbstractSpinBox* box, const QString& text);
 
+// A key press where the keyboard focus is, the window's menu shortcuts included. After work in the 3D view
+// the keyboard is in its window: as a person does, it clicks back into the main window (on its status
+// bar) first.
+void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers = {});
+
 // Where screenshots go (the build tree's tests/gui).
 QString shotPath(const QString& name);
+// Saves a screenshot of `widget` (the whole window as the screen shows it, when it is `window`).
+void shot(QMainWindow* window, QWidget* widget, const QString& name);
 
 }  // namespace vaw::guitest

@@ -122,23 +122,9 @@ void TestTrials::makeWindow() {
   QVERIFY(QTest::qWaitForWindowActive(window_.get()));
 }
 
-void TestTrials::press(int key) {
-  // After work in the 3D view the keyboard is in its window; a person clicks back into the main window
-  // (here: a click on the status bar) first.
-  if (QApplication::activeWindow() != window_.get() || QGuiApplication::focusWindow() != window_->windowHandle()) {
-    QTest::mouseClick(window_->statusBar(), Qt::LeftButton);
-    window_->activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
-  }
-  QWidget* target = QApplication::focusWidget() != nullptr ? QApplication::focusWidget() : window_.get();
-  QTest::keyClick(target, static_cast<Qt::Key>(key));
-}
+void TestTrials::press(int key) { vaw::guitest::pressKey(window_.get(), key); }
 
-void TestTrials::shot(QWidget* widget, const QString& name) {
-  QTest::qWait(200);
-  const QPixmap p = widget == window_.get() ? window_->screen()->grabWindow(window_->winId()) : widget->grab();
-  QVERIFY(p.save(vaw::guitest::shotPath(name)));
-}
+void TestTrials::shot(QWidget* widget, const QString& name) { vaw::guitest::shot(window_.get(), widget, name); }
 
 void TestTrials::cleanup() {
   const QStringList warnings = vaw::guitest::takeWarnings();

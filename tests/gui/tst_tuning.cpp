@@ -110,6 +110,7 @@ class TestTuning : public QObject {
   void unstableMethodWarnsBeforeTheGearGainsEnergy();
   void workPrecisionChartOfTheSelectedGear();
   void savedSettingsReopenAndOldFilesOpen();
+  void failedWritesAreReportedNotFatal();
   void unsavedTuningIsAskedAbout();
   void dockLayoutSurvivesARestart();
 
@@ -160,17 +161,7 @@ void TestTuning::makeWindow() {
   QVERIFY(QTest::qWaitForWindowActive(window_.get()));
 }
 
-void TestTuning::press(int key, Qt::KeyboardModifiers modifiers) {
-  // After work in the 3D view the keyboard is in its window; a person clicks back into the main window
-  // (here: a click on the status bar) before using the menus' shortcuts.
-  if (QApplication::activeWindow() != window_.get() || QGuiApplication::focusWindow() != window_->windowHandle()) {
-    QTest::mouseClick(window_->statusBar(), Qt::LeftButton);
-    window_->activateWindow();
-    QVERIFY(QTest::qWaitForWindowActive(window_.get()));
-  }
-  QWidget* target = QApplication::focusWidget() != nullptr ? QApplication::focusWidget() : window_.get();
-  QTest::keyClick(target, static_cast<Qt::Key>(key), modifiers);
-}
+void TestTuning::press(int key, Qt::KeyboardModifiers modifiers) { vaw::guitest::pressKey(window_.get(), key, modifiers); }
 
 void TestTuning::cleanup() {
   if (window_) sim().pause();
@@ -222,11 +213,7 @@ void TestTuning::pressAndDrag(const QPoint& from, const QPoint& to, int steps, i
   vaw::guitest::pressAndDrag(viewport()->view3d(), from, to, steps, msPerStep);
 }
 
-void TestTuning::shot(QWidget* widget, const QString& name) {
-  QTest::qWait(150);
-  const QPixmap p = widget == window_.get() ? window_->screen()->grabWindow(window_->winId()) : widget->grab();
-  QVERIFY(p.save(vaw::guitest::shotPath(name)));
-}
+void TestTuning::shot(QWidget* widget, const QString& name) { vaw::guitest::shot(window_.get(), widget, name); }
 
 std::pair<double, double> TestTuning::dropSleeve() {
   const PartId sleeve = *assembly().findPart("sleeve");
@@ -598,6 +585,26 @@ void TestTuning::workPrecisionChartOfTheSelectedGear() {
   QCOMPARE(dock->records().size(), before);
   QTest::qWait(100);  // its queued last report arrives and is ignored
   QCOMPARE(finished.count(), 1);
+}
+
+// Every write the window makes (scene, session, timeline exports) into a folder that is not there fails with
+// a message, and the window, the world and the unsaved tuning stay as they were; nothing is left behind.
+void TestTuning::failedWritesAreReportedNotFatal() {
+  open(bundled(QStringLiteral("gear-on-shaft.vaw.json")));
+  auto* methods = window_->methodsDock();
+  show(methods);
+  setSpin(methods->findChild<QSpinBox*>(QStringLiteral("stepRate")), QStringLiteral("120"));
+  QTRY_COMPARE(world().settings().rate, 120.0);
+  QVERIFY(window_->hasUnsavedChanges());
+  const QString missing = dir_.filePath(QStringLiteral("no-such-folder"));
+  QVERIFY(!window_->saveScene(missing + QStringLiteral("/tuned.vaw.json")));
+  QVERIFY(!window_->saveSession(missing + QStringLiteral("/s.vaw-session.json")));
+  QVERIFY(!window_->exportTimelineCsv(missing + QStringLiteral("/timeline.csv")));
+  QVERIFY(!window_->exportTimelinePng(missing + QStringLiteral("/timeline.png")));
+  QVERIFY(!QDir(missing).exists());
+  QVERIFY(window_->isVisible());
+  QVERIFY(window_->hasUnsavedChanges());
+  QCOMPARE(world().settings().rate, 120.0);
 }
 
 // Save As writes the scene with the tuning; opened again (File > Open Recent) it starts with it. A file

@@ -8,6 +8,7 @@
 #include <QDialogButtonBox>
 #include <QMessageBox>
 #include <QPushButton>
+#include <QSaveFile>
 #include <QSettings>
 #include <QTextBrowser>
 #include <QUndoStack>
@@ -385,14 +386,16 @@ bool MainWindow::saveSession(const QString& file) {
     message(static_cast<int>(MessageLogModel::Severity::Info), text);
     statusBar()->showMessage(text, 8000);
     return true;
-  } catch (const vaw::InputError& e) {
+  } catch (const std::exception& e) {  // vaw::OutputError too: a full disk must not take the window down
     message(static_cast<int>(MessageLogModel::Severity::Error), tr("Could not save the session: %1").arg(e.what()));
     return false;
   }
 }
 
 bool MainWindow::exportTimelinePng(const QString& file) {
-  const bool ok = timelineDock_->view()->render().save(file, "PNG");
+  // Complete or untouched, like every other output: QSaveFile writes beside it and renames on commit.
+  QSaveFile out(file);
+  const bool ok = out.open(QIODevice::WriteOnly) && timelineDock_->view()->render().save(&out, "PNG") && out.commit();
   message(static_cast<int>(ok ? MessageLogModel::Severity::Info : MessageLogModel::Severity::Error),
           ok ? tr("Exported the timeline to %1").arg(file) : tr("Could not write %1").arg(file));
   return ok;
@@ -403,7 +406,7 @@ bool MainWindow::exportTimelineCsv(const QString& file) {
     timelineDock_->model()->writeCsv(file);
     message(static_cast<int>(MessageLogModel::Severity::Info), tr("Exported the timeline to %1").arg(file));
     return true;
-  } catch (const vaw::InputError& e) {
+  } catch (const std::exception& e) {  // vaw::OutputError too
     message(static_cast<int>(MessageLogModel::Severity::Error), tr("Could not export the timeline: %1").arg(e.what()));
     return false;
   }
