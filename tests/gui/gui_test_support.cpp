@@ -114,6 +114,11 @@ QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId id, 
   return best;
 }
 
+void verifyNoWarnings() {
+  const QStringList warnings = takeWarnings();
+  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+}
+
 QString shotPath(const QString& name) { return QStringLiteral(VAW_GUI_SHOT_DIR "/") + name; }
 
 void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers) {

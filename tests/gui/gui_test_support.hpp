@@ -26,6 +26,8 @@ namespace vaw::guitest {
 void failOnWarnings();
 void restoreMessageHandler();
 QStringList takeWarnings();
+// Fails the running test with the Qt warnings collected since the last call, if there were any.
+void verifyNoWarnings();
 
 // A rendered frame of the viewport (waits for it); null on timeout.
 QImage capture(ui::Viewport* viewport);

@@ -121,8 +121,7 @@ void TestSimulation::initTestCase() {
 
 void TestSimulation::cleanup() {
   if (window_) sim().pause();
-  const QStringList warnings = vaw::guitest::takeWarnings();
-  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+  vaw::guitest::verifyNoWarnings();
 }
 
 void TestSimulation::cleanupTestCase() {

@@ -127,8 +127,7 @@ void TestTrials::press(int key) { vaw::guitest::pressKey(window_.get(), key); }
 void TestTrials::shot(QWidget* widget, const QString& name) { vaw::guitest::shot(window_.get(), widget, name); }
 
 void TestTrials::cleanup() {
-  const QStringList warnings = vaw::guitest::takeWarnings();
-  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+  vaw::guitest::verifyNoWarnings();
 }
 
 void TestTrials::cleanupTestCase() {

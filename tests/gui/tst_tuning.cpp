@@ -165,8 +165,7 @@ void TestTuning::press(int key, Qt::KeyboardModifiers modifiers) { vaw::guitest:
 
 void TestTuning::cleanup() {
   if (window_) sim().pause();
-  const QStringList warnings = vaw::guitest::takeWarnings();
-  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+  vaw::guitest::verifyNoWarnings();
 }
 
 void TestTuning::cleanupTestCase() {

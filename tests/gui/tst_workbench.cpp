@@ -127,15 +127,10 @@ void TestWorkbench::initTestCase() {
   controller_->open(path);
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
   QCOMPARE(failed.count(), 0);
-  const QStringList warnings = vaw::guitest::takeWarnings();
-  QVERIFY2(warnings.isEmpty(), qPrintable(warnings.join(QLatin1Char('\n'))));
+  vaw::guitest::verifyNoWarnings();
 }
 
-void TestWorkbench::cleanup() {
-  const QStringList warnings = vaw::guitest::takeWarnings();
-  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") +
-                                          warnings.join(QLatin1Char('\n'))));
-}
+void TestWorkbench::cleanup() { vaw::guitest::verifyNoWarnings(); }
 
 void TestWorkbench::cleanupTestCase() {
   testers_.clear();

@@ -164,8 +164,7 @@ void TestXr::init() {
 
 void TestXr::cleanup() {
   if (window_) sim().pause();
-  const QStringList warnings = vaw::guitest::takeWarnings();
-  QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+  vaw::guitest::verifyNoWarnings();
 }
 
 void TestXr::cleanupTestCase() {
