@@ -18,6 +18,7 @@ void World::Impl::enterFlight(PartId id, const Eigen::Vector3d& v, const Eigen::
   const Part& d = def(id);
   r.model = Model::Free;
   r.constraint.reset();
+  m.clearing = false;
   r.velocity = v;
   r.angularVelocity = w;
   m.release = dyn::Release{t0, comWorld(id), v, Eigen::Quaterniond(r.pose.linear()), w};
@@ -73,6 +74,20 @@ void World::Impl::stepFlight(PartId id, double t0, double t1) {
   if (ev.kind == collision::EventKind::Contact && ev.s <= motion.s0 &&
       !collision.colliding(collision::ObjectId::part(id), motion.pose(t1)).blocked)
     ev.kind = collision::EventKind::None;
+  // Clearing the edge it slid off: meeting the base alone is passing its corner, not landing on it.
+  bool overBase = false;
+  if (m.clearing && ev.kind == collision::EventKind::Contact && assembly.base &&
+      ev.other == collision::ObjectId::part(*assembly.base)) {
+    const collision::ObjectId left = *ev.other;
+    const collision::BlockResult end = collision.colliding(collision::ObjectId::part(id), motion.pose(t1));
+    const bool onlyBase = std::all_of(end.contacts.begin(), end.contacts.end(),
+                                      [&](const collision::Contact& c) { return c.a == left || c.b == left; });
+    if (onlyBase) {
+      ev.kind = collision::EventKind::None;
+      overBase = end.blocked;
+    }
+  }
+  m.clearing = overBase;
   if (ev.kind == collision::EventKind::Contact) {
     setPose(id, motion.pose(ev.s));
     const Eigen::Vector3d vHit = dyn::ballisticVelocity(m.release, m.gFree, ev.s);

@@ -55,6 +55,9 @@ struct PartModel {
   Eigen::Vector3d blockedDir = Eigen::Vector3d::Zero();     // base frame: the way it was last blocked
   double blockedRot = 0.0;                                   // sign of the rotation last blocked
   bool sliding = false;                                      // the slide's "moving" flag
+  // Slid off the base's edge and still over it: the reduced model does not tip a part over the edge, so
+  // its trailing side passes through the edge's corner for a few steps; that is not an impact with the base.
+  bool clearing = false;
   dyn::Release release;
   Eigen::Vector3d gFree = Eigen::Vector3d::Zero();
   dyn::RotationModel rotation = dyn::RotationModel::ConstantOmega;

@@ -310,7 +310,10 @@ void World::Impl::stepOnBase(PartId id, const Eigen::Vector3d& leaving) {
 }
 
 void World::Impl::leaveBase(PartId id, const Eigen::Vector3d& v, const std::string& cause, const Eigen::Vector3d& w) {
-  if (fireEvent(id, Event::LostContact, interact::Hands::None, cause)) enterFlight(id, v, w, endOfStep());
+  if (fireEvent(id, Event::LostContact, interact::Hands::None, cause)) {
+    enterFlight(id, v, w, endOfStep());
+    models[id].clearing = true;
+  }
 }
 
 // ONBASESTATIC: moves with the base; starts when gravity beats static friction (not into the obstacle
