@@ -86,6 +86,7 @@ class TestTrials : public QObject {
   void malformedDesignIsShownNotThrown();
   void shortSessionByKeysPausesResumesAndAnalyses();
   void adjustmentAndTwoIntervalAnswers();
+  void everyScenarioPlaysInThePanel();
 
  private:
   [[nodiscard]] TrialsDock* dock() const { return window_->trialsDock(); }
@@ -352,6 +353,8 @@ void TestTrials::adjustmentAndTwoIntervalAnswers() {
   const double set = world().settings().gravity.freeFlight;
   press(Qt::Key_3);
   QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Done, 5000);
+  // The scene's own scale is back at once, so a session started right away finds it, not the last trial's.
+  QCOMPARE(world().settings().gravity.freeFlight, 0.25);
   {
     const auto file = vaw::trials::readResults(adjusted.toStdString());
     QCOMPARE(file.records.size(), std::size_t{1});
@@ -368,7 +371,7 @@ void TestTrials::adjustmentAndTwoIntervalAnswers() {
     // The first interval's fall, then the second's; the answers wait for both.
     const auto& t = *dock()->runner()->next();
     const double first = t.referenceFirst ? *t.referenceScale : t.scale, second = t.referenceFirst ? t.scale : *t.referenceScale;
-    QTRY_VERIFY_WITH_TIMEOUT(world().settings().gravity.freeFlight == first && dock()->phase() == TrialsDock::Phase::Falling, 20000);
+    QTRY_VERIFY_WITH_TIMEOUT(world().settings().gravity.freeFlight == first && dock()->phase() == TrialsDock::Phase::Moving, 20000);
     QVERIFY(!dock()->findChild<QPushButton*>(QStringLiteral("trialsAnswer1"))->isEnabled());
     QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 20000);
     QCOMPARE(world().settings().gravity.freeFlight, second);
@@ -381,6 +384,58 @@ void TestTrials::adjustmentAndTwoIntervalAnswers() {
   QCOMPARE(file.records.size(), std::size_t{2});
   for (const auto& r : file.records)
     QVERIFY(std::get<vaw::trials::Judgement>(r.answer.response) == vaw::trials::Judgement::First);
+}
+
+// The throw, the slide off the tilted base and the gear's swing, each a two-trial session at twice real time:
+// the panel opens the scenario's scene, the world plays the trial's scale for the design's motion, the
+// part goes through the scenario's states, and the answer is recorded.
+void TestTrials::everyScenarioPlaysInThePanel() {
+  struct Case {
+    const char* scenario;
+    const char* motion;
+    const char* scene;
+    const char* states;  // the part's states, from the hand's taking it to the end of the presentation
+  };
+  const Case cases[] = {
+      {"throw", "free-flight", "drop-from-hand.vaw.json", "INHAND INSPACE STATIC"},
+      {"slide-off-tilted-base", "slide", "block-on-plate.vaw.json", "INHAND ONBASESTATIC ONBASESLIDE INSPACE STATIC"},
+      {"gear-pendulum", "rotation", "gear-on-shaft.vaw.json", "INHAND ONBASESTATIC ONBASESLIDE"},
+  };
+  for (const Case& c : cases) {
+    const QString name = QString::fromLatin1(c.scenario);
+    const QByteArray json = QStringLiteral(R"({"format": "vaw-trial-design", "version": 1, "name": "%1",
+      "participant": "S01", "seed": 3, "scenario": "%1", "motion": "%2",
+      "question": {"text": "Too fast or too slow?", "answers": "too-fast-too-slow"},
+      "method": {"kind": "constant-stimuli", "scales": [0.5, 1.0], "repetitions": 1}})")
+                                .arg(name, QString::fromLatin1(c.motion))
+                                .toUtf8();
+    const QString results = startDesign(name, json);
+    QVERIFY2(!results.isEmpty(), qPrintable(name + QStringLiteral(": ") + dock()->problem()));
+    sim().setSpeed(2.0);
+    for (int trial = 0; trial < 2; ++trial) {
+      QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 30000);
+      QVERIFY2(controller_->currentPath().endsWith(QString::fromLatin1(c.scene)), qPrintable(controller_->currentPath()));
+      const auto& g = world().settings().gravity;
+      const std::string motion = c.motion;
+      const double played = motion == "free-flight" ? g.freeFlight : motion == "slide" ? g.slide : g.rotation;
+      QCOMPARE(played, dock()->runner()->next()->scale);
+      const vaw::PartId part = world().assembly().base == vaw::PartId{0} ? 1 : 0;
+      QStringList states;
+      for (const auto& t : world().transitions())
+        if (t.part == part) states << QString::fromLatin1(std::string(vaw::interact::name(t.to)).c_str());
+      QCOMPARE(states.join(QLatin1Char(' ')), QString::fromLatin1(c.states));
+      if (name == QStringLiteral("gear-pendulum"))
+        QVERIFY2(world().time() >= 6.0, "the swing is watched for 6 s after the release");
+      if (trial == 0) shot(window_.get(), QStringLiteral("trials-%1.png").arg(name));
+      press(Qt::Key_2);
+      QTRY_VERIFY(dock()->phase() != TrialsDock::Phase::Answering);
+    }
+    QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Done, 5000);
+    const auto file = vaw::trials::readResults(results.toStdString());
+    QCOMPARE(file.records.size(), std::size_t{2});
+    for (const auto& r : file.records) QVERIFY(!r.answer.measures.caught);
+  }
+  sim().setSpeed(1.0);
 }
 
 QTEST_MAIN(TestTrials)

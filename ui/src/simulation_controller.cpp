@@ -124,6 +124,12 @@ void SimulationController::setInputSource(InputSource source) {
   if (!inputSource_ && recorder_) syncInputs();  // the desktop continues from what the source did last
 }
 
+void SimulationController::setScript(Script script) {
+  const bool ended = script_ && !script;
+  script_ = std::move(script);
+  if (ended && recorder_) syncInputs();
+}
+
 void SimulationController::setExternalPacing(bool on) {
   externalPacing_ = on;
   lastTickNs_ = clock_.nsecsElapsed();
@@ -380,7 +386,9 @@ void SimulationController::stepOnceNow() {
     recorder_->playNext();
   } else {
     if (inPast() || playback_) takeOver();
-    const vaw::sim::Input in = inputSource_ ? inputSource_(recorder_->timeAt(recorder_->step() + 1)) : nextInput();
+    const double end = recorder_->timeAt(recorder_->step() + 1);
+    vaw::sim::Input in = inputSource_ ? inputSource_(end) : nextInput();
+    if (script_) script_(end, in);
     cost.start();
     recorder_->record(in);
   }

@@ -40,15 +40,14 @@
 namespace vaw::ui {
 
 namespace {
-// Held still this long before the hand opens: longer than the release estimator's window, so the part
-// leaves the hand at rest whatever the estimator does.
-constexpr double kHold_s = 0.4;
+// A scripted hand that has not taken the part this long after the reset never will (a refused grab).
+constexpr double kTakeBy_s = 0.3;
 // Two-interval trials: the pause between the two falls, so they read as two.
 constexpr double kBetween_s = 0.6;
 // Adjustment: one press changes the scale by this factor, the step of a staircase's finest rung.
 constexpr double kAdjustFactor = 1.12;
-// Wide enough for the analysis table and a readable chart.
-constexpr int kAnalysisWidth = 720;
+// Wide enough for the analysis table and a readable chart; during a session the 3D view needs the room.
+constexpr int kAnalysisWidth = 720, kSessionWidth = 420;
 const QString kDesignSuffix = QStringLiteral(".vaw-trial.json");
 
 QString str(std::string_view s) { return QString::fromUtf8(s.data(), static_cast<qsizetype>(s.size())); }
@@ -393,8 +392,7 @@ void TrialsDock::resumeFile(const QString& path) {
 void TrialsDock::begin(std::unique_ptr<trials::Runner> runner) {
   const QString scene = scenePath(runner->design().scenario);
   if (!QFileInfo::exists(scene)) {
-    showProblem(tr("The panel has no scene for the scenario \"%1\" (it plays drop-from-hand; %2 is missing). "
-                   "vaw-sim trials simulate runs any scenario.")
+    showProblem(tr("The scene of the scenario \"%1\" is missing: %2 (is vaw installed whole?)")
                     .arg(str(trials::name(runner->design().scenario)), scene));
     return;
   }
@@ -402,6 +400,11 @@ void TrialsDock::begin(std::unique_ptr<trials::Runner> runner) {
   design_ = runner_->design();
   show();
   raise();  // the participant answers here, and its keys work only while it is shown
+  // After the layout has settled on the raised dock (an analysis may have widened it).
+  QTimer::singleShot(0, this, [this] {
+    if (auto* main = qobject_cast<QMainWindow*>(parentWidget()); main != nullptr && !isFloating() && width() > kSessionWidth)
+      main->resizeDocks({this}, {kSessionWidth}, Qt::Horizontal);
+  });
   tabs_->setCurrentIndex(0);
   showProblem({});
   QStringList notes;
@@ -425,17 +428,15 @@ void TrialsDock::begin(std::unique_ptr<trials::Runner> runner) {
 }
 
 QString TrialsDock::scenePath(trials::Scenario scenario) const {
-  return qPath(vaw::resourceDir() / "scenes" / (std::string(trials::name(scenario)) + ".vaw.json"));
+  return qPath(vaw::resourceDir() / "scenes" / std::string(trials::Stage::sceneFile(scenario)));
 }
 
 void TrialsDock::sceneLoaded() {
   if (!running() || !simulation_.hasWorld()) return;
-  const vaw::Assembly& a = simulation_.world().assembly();
-  part_.reset();
-  for (vaw::PartId id = 0; id < a.parts.size() && !part_; ++id)
-    if (id != a.base) part_ = id;
-  if (!part_) {
-    showProblem(tr("The scenario's scene has no part to drop."));
+  try {
+    stage_.emplace(design_->scenario, simulation_.world().assembly());
+  } catch (const std::exception& e) {
+    showProblem(QString::fromUtf8(e.what()));
     endSession();
     return;
   }
@@ -461,19 +462,22 @@ void TrialsDock::startTrial() {
   fall_ = 0;
   caught_ = false;
   regrasp_.reset();
-  playFall(falls_[0]);
+  present(falls_[0]);
 }
 
-void TrialsDock::playFall(double scale) {
+void TrialsDock::present(double scale) {
   simulation_.reset();
-  // In the headset the world takes its hands from the tracker: the participant takes the part and lets it
-  // go, and the desktop's view follows the head.
-  headset_ = simulation_.hasInputSource();
-  const Eigen::Vector3d at = simulation_.world().part(*part_).pose.translation();
-  // From in front and a little below the release, far enough back to see the whole fall (the reset framed
-  // the part alone).
-  const Eigen::Vector3d centre(at.x(), at.y(), 0.5 * at.z());
-  if (!headset_) emit viewRequested(centre + Eigen::Vector3d(0.0, -1.8 * at.z(), 0.2 * at.z()), centre);
+  // In the headset the world takes its hands from the tracker: a drop or a throw is the participant's own,
+  // and for the others the script's hand and base move while the participant watches. The desktop's view
+  // follows the head there; on the desktop it frames the whole motion, the same at every scale.
+  const bool headset = simulation_.hasInputSource();
+  participantActs_ = headset && stage_->participantActs();
+  if (participantActs_) {
+    simulation_.setScript({});
+  } else {
+    simulation_.setScript([stage = *stage_](double t, vaw::sim::Input& in) { stage.script(t, in); });
+  }
+  if (!headset) emit viewRequested(stage_->eye(), stage_->centre());
   vaw::dyn::GravityScales g = *gravityBefore_;
   switch (design_->motion) {
     case trials::MotionKind::FreeFlight: g.freeFlight = scale; break;
@@ -481,45 +485,40 @@ void TrialsDock::playFall(double scale) {
     case trials::MotionKind::Rotation: g.rotation = scale; break;
   }
   simulation_.requestEdit(vaw::sim::GravityEdit{g});
-  if (!headset_) simulation_.grab(*part_, at, false);
-  holdUntil_ = kHold_s;
   phase_ = Phase::Holding;
   if (!paused_) simulation_.play();
   updateControls();
 }
 
 void TrialsDock::frameReady() {
-  if (!running() || !part_ || !simulation_.hasWorld()) return;
+  if (!running() || !stage_ || !simulation_.hasWorld()) return;
   const vaw::sim::World& w = simulation_.world();
-  const vaw::sim::PartRuntime& p = w.part(*part_);
+  const vaw::sim::PartRuntime& p = w.part(stage_->part());
   const double t = w.time();
   const bool held = p.holder != vaw::sim::Holder::None;
-  // The measures belong to the fall of the trial's own scale (the other of two is the reference's).
+  // The measures belong to the presentation of the trial's own scale (the other of two is the reference's).
   const bool ownFall = falls_.size() < 2 || fall_ == (runner_->next()->referenceFirst ? 1u : 0u);
   switch (phase_) {
     case Phase::Holding:
-      if (headset_) {
+      if (participantActs_) {
         if (p.state == vaw::interact::PartState::InSpace) {
           releasedAt_ = t;
-          phase_ = Phase::Falling;
+          phase_ = Phase::Moving;
         }
-      } else if (held && t >= holdUntil_) {
-        simulation_.release();
-        releasedAt_ = t;
-        phase_ = Phase::Falling;
-      } else if (!held && t > holdUntil_ + 1.0) {
+      } else if (!held && t >= stage_->releaseTime()) {
+        releasedAt_ = stage_->releaseTime();
+        phase_ = Phase::Moving;
+      } else if (!held && t > kTakeBy_s) {
         showProblem(tr("The hand could not take the part: the session is stopped."));
         endSession();
       }
       break;
-    case Phase::Falling: {
-      if (t <= releasedAt_ + 2.0 * w.settings().step()) break;  // the hand opens on the step after the request
-      const bool landed = p.state != vaw::interact::PartState::InSpace;
-      if (held && ownFall) {
-        caught_ = true;
+    case Phase::Moving: {
+      if (held && ownFall && !regrasp_) {
+        caught_ = true;  // taken back before the presentation was over
         regrasp_ = t - releasedAt_;
       }
-      if (!landed && !held) break;
+      if (!stage_->over(w, t - releasedAt_)) break;
       if (fall_ + 1 < falls_.size()) {
         phase_ = Phase::Between;
         betweenUntil_ = t + kBetween_s;
@@ -530,10 +529,10 @@ void TrialsDock::frameReady() {
       break;
     }
     case Phase::Between:
-      if (t >= betweenUntil_) playFall(falls_[++fall_]);
+      if (t >= betweenUntil_) present(falls_[++fall_]);
       break;
     case Phase::Answering:
-      // Taken back after it landed: a re-grasp, though not a catch.
+      // Taken back after the presentation: a re-grasp, though not a catch.
       if (held && ownFall && !regrasp_) regrasp_ = t - releasedAt_;
       break;
     default: break;
@@ -546,11 +545,11 @@ void TrialsDock::headsetAnswer(int hand) {
 }
 
 void TrialsDock::replay() {
-  if (!running() || paused_ || (phase_ != Phase::Answering && phase_ != Phase::Falling)) return;
+  if (!running() || paused_ || (phase_ != Phase::Answering && phase_ != Phase::Moving)) return;
   fall_ = 0;
   caught_ = false;
   regrasp_.reset();
-  playFall(falls_[0]);
+  present(falls_[0]);
 }
 
 void TrialsDock::adjust(double factor) {
@@ -559,7 +558,7 @@ void TrialsDock::adjust(double factor) {
   setting_ = std::clamp(setting_ * factor, range.min, range.max);
   falls_ = {setting_};
   fall_ = 0;
-  playFall(setting_);
+  present(setting_);
 }
 
 void TrialsDock::answer(const std::variant<trials::Judgement, trials::Setting>& response) {
@@ -605,6 +604,8 @@ void TrialsDock::finish() {
 
 void TrialsDock::endSession() {
   runner_.reset();  // closes the results file and lets go of its lock
+  simulation_.setScript({});
+  stage_.reset();
   phase_ = Phase::Idle;
   paused_ = false;
   restoreGravity();
@@ -614,7 +615,14 @@ void TrialsDock::endSession() {
 }
 
 void TrialsDock::restoreGravity() {
-  if (gravityBefore_ && simulation_.hasWorld()) simulation_.requestEdit(vaw::sim::GravityEdit{*gravityBefore_});
+  if (gravityBefore_ && simulation_.hasWorld()) {
+    // Applied now, not at the next step: a session started at once on the same scene takes the world's
+    // gravity as the scene's own, and must not find the last trial's scale there.
+    const bool playing = simulation_.isPlaying();
+    simulation_.pause();
+    simulation_.requestEdit(vaw::sim::GravityEdit{*gravityBefore_});
+    if (playing) simulation_.play();
+  }
   gravityBefore_.reset();
 }
 
@@ -655,7 +663,9 @@ void TrialsDock::updateControls() {
     const auto& t = runner_->next();
     if (paused_) question = tr("Paused. Press Continue or P to go on.");
     else if (phase_ == Phase::LoadingScene) question = tr("Opening the scenario's scene…");
-    else if (phase_ == Phase::Holding && headset_) question = tr("Take the block and let it go.");
+    else if (phase_ == Phase::Holding && participantActs_)
+      question = design_->scenario == trials::Scenario::Throw ? tr("Take the block and toss it up.")
+                                                              : tr("Take the block and let it go.");
     else if (phase_ != Phase::Answering) question = tr("Watch the part.") + QStringLiteral(" ") + question;
     // An unblinded design may show the scale (a demonstration, a pilot).
     if (t && !t->blinded)

@@ -23,8 +23,8 @@ constexpr double kTake = 0.2, kCarry = 1.0, kSlideOn = 0.7, kSettle = 0.3;
 // The slide: the base rises this much, then tilts at the desktop's base rate.
 constexpr double kLift = 0.25, kLiftTime = 0.8, kTiltRate = 30.0 * 3.14159265358979323846 / 180.0;
 // The part is put down this far from its final pose within the mate's plane: beyond the place tolerance
-// (recognized on its mate, not PLACED), and toward the base's high edge so it slides across it.
-const Eigen::Vector3d kSlideOffset{0.005, 0.04, 0.0};
+// (recognized on its mate, not PLACED), and toward the base's high (-x) edge so it slides across it.
+const Eigen::Vector3d kSlideOffset{-0.05, 0.005, 0.0};
 // How long the pendulum is watched; the longest any presentation runs after the release.
 constexpr double kSwingWatch = 6.0, kLongest = 20.0;
 // Two steps at the slowest rate: the hand opens on the step after the script lets go.
@@ -87,9 +87,10 @@ Stage::Stage(Scenario scenario, const Assembly& a) : scenario_(scenario) {
     }
     case Scenario::Throw: {
       release_ = kHold + kThrowAccelerate + kThrowCoast;
-      // Side on to the arc, which at a scale of 0.05 rises about a metre and lands 0.8 m ahead.
-      centre_ = at + Eigen::Vector3d(0.0, 0.4, 0.15);
-      eye_ = centre_ + Eigen::Vector3d(3.6, -0.6, 0.3);
+      // Side on to the arc (which at a scale of 0.1 rises 0.5 m and lands 0.5 m ahead) and from above, from
+      // the side away from the base, which would hide the landing.
+      centre_ = Eigen::Vector3d(at.x(), at.y() + 0.3, 0.8 * at.z());
+      eye_ = centre_ + Eigen::Vector3d(-2.4, -0.4, 1.1);
       return;
     }
     case Scenario::SlideOffTiltedBase:
@@ -111,10 +112,11 @@ Stage::Stage(Scenario scenario, const Assembly& a) : scenario_(scenario) {
     placed_ = *p.finalPose;
     placed_.pretranslate(kSlideOffset);
     release_ = kTake + kCarry + kSettle;
-    // About the base's bottom edge on its low (-y) side, so the base stays above where it was lifted from.
-    tiltPivot_ = Eigen::Vector3d(worldBounds.center().x(), worldBounds.min().y(), worldBounds.min().z());
-    centre_ = Eigen::Vector3d(worldBounds.center().x(), worldBounds.min().y(), worldBounds.max().z() + 0.5 * kLift);
-    eye_ = centre_ + Eigen::Vector3d(1.0, -0.45, 0.35);
+    // About the base's bottom edge on its low (+x) side, so the base stays above where it was lifted from.
+    tiltPivot_ = Eigen::Vector3d(worldBounds.max().x(), worldBounds.center().y(), worldBounds.min().z());
+    // Side on to the tilt, from the raised base to where the part lands beyond its low edge.
+    centre_ = Eigen::Vector3d(worldBounds.max().x() + 0.1, worldBounds.center().y(), worldBounds.max().z() + 0.4 * kLift);
+    eye_ = centre_ + Eigen::Vector3d(0.3, -1.3, 0.35);
     return;
   }
 
@@ -167,7 +169,7 @@ Eigen::Isometry3d Stage::handPose(double t) const {
 Eigen::Isometry3d Stage::basePose(double t) const {
   const double lifted = kLift * smooth((t - release_ - kSettle) / kLiftTime);
   const double tilt = std::clamp((t - release_ - 2.0 * kSettle - kLiftTime) * kTiltRate, 0.0, kSlideTilt);
-  Eigen::Isometry3d pose = rotationAbout(Eigen::Vector3d::UnitX(), tilt, tiltPivot_) * baseLoad_;
+  Eigen::Isometry3d pose = rotationAbout(Eigen::Vector3d::UnitY(), tilt, tiltPivot_) * baseLoad_;
   pose.pretranslate(Eigen::Vector3d(0.0, 0.0, lifted));
   return pose;
 }

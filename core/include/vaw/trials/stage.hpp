@@ -10,8 +10,8 @@
 //   drop-from-hand         the right hand takes the part, holds it still, opens;
 //   throw                  the same, then the hand tosses it up and forward at a fixed velocity;
 //   slide-off-tilted-base  the hand puts the part on its mate on the base and lets go; the left hand lifts
-//                          the base and tilts it past the friction angle, so the part slides off the low
-//                          edge and falls to the table;
+//                          the base and tilts it about the y axis past the friction angle, so the part
+//                          slides off the low (+x) edge and falls to the table;
 //   gear-pendulum          the hand slides the part onto its shaft, turned so its centre of mass is off the
 //                          vertical, and lets go: it swings about the shaft.
 #include <Eigen/Geometry>

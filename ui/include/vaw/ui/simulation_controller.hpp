@@ -102,6 +102,15 @@ class SimulationController : public QObject {
   void setInputSource(InputSource source);
   [[nodiscard]] bool hasInputSource() const { return static_cast<bool>(inputSource_); }
 
+  // ---- a scripted presentation (the trials panel's, vaw/trials/stage.hpp) ----
+  // When set, each live step's input, from the desktop or the source above, is handed to `script` with the
+  // simulated time at the end of the step; it overrides what it drives (a hand until it lets go, the base)
+  // and leaves the rest, so the desktop's mouse can still catch a part the script has let go. An empty
+  // function ends it, and the desktop's hand and base go on from where the script left them.
+  using Script = std::function<void(double stepEndTime, vaw::sim::Input& input)>;
+  void setScript(Script script);
+  [[nodiscard]] bool hasScript() const { return static_cast<bool>(script_); }
+
   // ---- pacing by another clock (the headset's frame loop) ----
   // While paced externally the timer steps nothing; play and pause still say whether time runs, and the
   // pacer calls advance() with the steps its clock owes (the headset: those that end by its next display
@@ -167,6 +176,7 @@ class SimulationController : public QObject {
   qint64 lastStepNs_ = 0;
   std::deque<std::function<void()>> commands_;
   InputSource inputSource_;
+  Script script_;
   bool externalPacing_ = false;
 
   // Desktop inputs, read at each step.

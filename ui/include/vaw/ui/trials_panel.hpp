@@ -4,8 +4,8 @@
 //
 // Each trial resets the scenario's bundled scene, sets the trial's scale for the design's motion kind
 // through the simulation controller's queue (never the undo stack: a trial is not a user's tuning), plays
-// the scenario (the right hand takes the part and lets it go at rest) and then takes one answer from large
-// buttons or their keys. While a blinded session runs the panel asks the window to hide every place that
+// the scenario's script (vaw/trials/stage.hpp: a drop, a throw, a slide off the tilted base or the gear's
+// swing) and then takes one answer from large buttons or their keys. While a blinded session runs the panel asks the window to hide every place that
 // would show the scale (blindingChanged). Every answer is on disk before the next trial starts (the
 // runner fsyncs it), so pausing needs no saving and a session killed at any moment resumes where it was.
 #include <Eigen/Core>
@@ -22,6 +22,7 @@
 #include "vaw/trials/analysis.hpp"
 #include "vaw/trials/design.hpp"
 #include "vaw/trials/runner.hpp"
+#include "vaw/trials/stage.hpp"
 
 class QAction;
 class QComboBox;
@@ -44,7 +45,8 @@ class TrialsDock : public QDockWidget {
   Q_OBJECT
  public:
   // What the panel waits for within a trial.
-  enum class Phase { Idle, LoadingScene, Holding, Falling, Between, Answering, Done };
+  // Holding: before the part leaves the hand; Moving: from then until the presentation is over.
+  enum class Phase { Idle, LoadingScene, Holding, Moving, Between, Answering, Done };
 
   TrialsDock(SimulationController& simulation, AssemblyController& assembly, QWidget* parent = nullptr);
   ~TrialsDock() override;
@@ -92,7 +94,7 @@ class TrialsDock : public QDockWidget {
   void begin(std::unique_ptr<trials::Runner> runner);
   void sceneLoaded();
   void startTrial();
-  void playFall(double scale);
+  void present(double scale);
   void frameReady();
   void answer(const std::variant<trials::Judgement, trials::Setting>& response);
   void adjust(double factor);
@@ -115,13 +117,14 @@ class TrialsDock : public QDockWidget {
   Phase phase_ = Phase::Idle;
   bool paused_ = false;
   bool blinded_ = false;
-  bool headset_ = false;  // the trial plays in the headset: the participant's own hand drops the part
+  // In the headset a drop or a throw is the participant's own: their hand takes the part and lets it go.
+  bool participantActs_ = false;
   std::optional<vaw::dyn::GravityScales> gravityBefore_;  // the scene's tuning before the session
-  std::optional<vaw::PartId> part_;                        // the part the scenario drops
+  std::optional<trials::Stage> stage_;                     // the scenario's script on the loaded scene
   std::vector<double> falls_;                              // the scales this trial plays, in order
   std::size_t fall_ = 0;                                   // the one playing
   double setting_ = 1.0;                                   // adjustment: the scale the participant set
-  double holdUntil_ = 0.0, releasedAt_ = 0.0, betweenUntil_ = 0.0;  // world time, s
+  double releasedAt_ = 0.0, betweenUntil_ = 0.0;           // world time, s
   bool caught_ = false;
   std::optional<double> regrasp_;
   std::vector<trials::ConditionAnalysis> analysis_;
