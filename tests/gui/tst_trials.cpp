@@ -338,7 +338,7 @@ void TestTrials::adjustmentAndTwoIntervalAnswers() {
   const QString adjusted = startDesign(QStringLiteral("adjust"), R"({"format": "vaw-trial-design", "version": 1,
     "name": "adjust", "participant": "A01", "seed": 5, "scenario": "drop-from-hand", "motion": "free-flight",
     "question": {"text": "Make the fall look real.", "answers": "setting"},
-    "method": {"kind": "adjustment", "trials": 1, "range": [0.05, 2.0], "start_range": [0.3, 0.6]}})");
+    "method": {"kind": "adjustment", "trials": 2, "range": [0.05, 2.0], "start_range": [0.3, 0.6]}})");
   QVERIFY2(!adjusted.isEmpty(), qPrintable(dock()->problem()));
   QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 20000);
   const double start = dock()->runner()->next()->scale;
@@ -351,15 +351,34 @@ void TestTrials::adjustmentAndTwoIntervalAnswers() {
              qPrintable(QStringLiteral("%1 after a factor %2 from %3").arg(world().settings().gravity.freeFlight).arg(factor).arg(start)));
   }
   const double set = world().settings().gravity.freeFlight;
+  // Blinded: the status bar's clock, which would time the fall, is not shown.
+  QVERIFY2(window_->findChild<QLabel*>(QStringLiteral("simulationStatus"))->text().startsWith(QStringLiteral("trials session")),
+           qPrintable(window_->findChild<QLabel*>(QStringLiteral("simulationStatus"))->text()));
+  // File > Save would write the trial's scale as the scene's tuning: it waits for the session.
+  vaw::guitest::pressKey(window_.get(), Qt::Key_S, Qt::ControlModifier);
+  QVERIFY2(window_->statusBar()->currentMessage().contains(QStringLiteral("trials session is running")),
+           qPrintable(window_->statusBar()->currentMessage()));
   press(Qt::Key_3);
+  // The second trial in the headset's gestures: the right hand alone is Faster, once the other hand has not
+  // followed within 0.3 s; both hands closing together accept.
+  QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering && dock()->runner()->answered() == 1, 20000);
+  const double start2 = dock()->runner()->next()->scale;
+  dock()->headsetAnswer(1);
+  QTest::qWait(100);
+  QCOMPARE(world().settings().gravity.freeFlight, start2);
+  QTRY_VERIFY_WITH_TIMEOUT(std::abs(world().settings().gravity.freeFlight - start2 * 1.12) < 1e-9, 2000);
+  QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 20000);
+  dock()->headsetAnswer(0);
+  dock()->headsetAnswer(1);
   QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Done, 5000);
   // The scene's own scale is back at once, so a session started right away finds it, not the last trial's.
   QCOMPARE(world().settings().gravity.freeFlight, 0.25);
   {
     const auto file = vaw::trials::readResults(adjusted.toStdString());
-    QCOMPARE(file.records.size(), std::size_t{1});
+    QCOMPARE(file.records.size(), std::size_t{2});
     QCOMPARE(std::get<vaw::trials::Setting>(file.records[0].answer.response).scale, set);
     QCOMPARE(file.records[0].trial.scale, start);
+    QVERIFY(std::abs(std::get<vaw::trials::Setting>(file.records[1].answer.response).scale - start2 * 1.12) < 1e-9);
   }
 
   const QString twice = startDesign(QStringLiteral("two"), R"({"format": "vaw-trial-design", "version": 1,

@@ -369,7 +369,7 @@ void MainWindow::openFile(const QString& path) {
 }
 
 void MainWindow::saveSessionDialog() {
-  if (!simulation_->hasWorld()) return;
+  if (!simulation_->hasWorld() || savingWaitsForTrials()) return;
   const QString file = QFileDialog::getSaveFileName(this, tr("Save session"), QStringLiteral("session.vaw-session.json"),
                                                     tr("Sessions (*.vaw-session.json)"));
   if (!file.isEmpty()) saveSession(file);
@@ -529,7 +529,8 @@ void MainWindow::updateTuning(const std::optional<vaw::sim::StabilityAdvice>& ad
   methodsDock_->showWorld(w, advice, name);
   workPrecisionDock_->showWorld(w, part);
   const bool warn = advice && advice->level != vaw::sim::StabilityAdvice::Level::Stable;
-  stabilityStatus_->setVisible(warn);
+  // Whether a rotation method is near its limit depends on the gravity scale: hidden while a blinded trial plays.
+  stabilityStatus_->setVisible(warn && !blinded_);
   QString fix;
   if (warn && advice->safeMethod) fix = tr("use %1").arg(QString::fromLatin1(vaw::dyn::name(*advice->safeMethod).data()));
   if (warn && advice->safeRate)
@@ -577,12 +578,13 @@ void MainWindow::requestTuning(const vaw::sim::Edit& edit, int mergeKey) {
 }
 
 bool MainWindow::save() {
+  if (savingWaitsForTrials()) return false;
   if (scenePath_.isEmpty()) return saveAs();
   return saveScene(scenePath_);
 }
 
 bool MainWindow::saveAs() {
-  if (!simulation_->hasWorld()) return false;
+  if (!simulation_->hasWorld() || savingWaitsForTrials()) return false;
   const vaw::Assembly& loaded = simulation_->world().assembly();
   if (!isSceneFile(QFile::decodeName(loaded.source.string().c_str()))) {
     const QString text = tr("Only a scene (.vaw.json) can be saved with its tuning; %1 is not one. Save the session instead.")
@@ -635,6 +637,9 @@ bool MainWindow::maybeSave() {
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {
+  // Closing ends a trials session (its answers are on disk): the tuning offered for saving is then the
+  // scene's own again, not the last trial's scale.
+  trialsDock_->stop();
   if (!maybeSave()) {
     event->ignore();
     return;
@@ -748,7 +753,18 @@ void MainWindow::setBlinded(bool blinded) {
       timelineDock_->raise();
     closedForBlinding_.clear();
   }
+  if (blinded) stabilityStatus_->hide();
+  updateStatus();
   logChanged();
+}
+
+bool MainWindow::savingWaitsForTrials() {
+  if (!trialsDock_->running()) return false;
+  const QString text = tr("Nothing was saved: a trials session is running, and the world plays the trial's scale, not the "
+                          "scene's. Stop the session first (its answers are on disk, and Start resumes it).");
+  message(static_cast<int>(MessageLogModel::Severity::Warning), text);
+  statusBar()->showMessage(text, 10000);
+  return true;
 }
 
 void MainWindow::logChanged() {
@@ -763,6 +779,8 @@ QString MainWindow::statusText() const {
   if (!simulation_->hasWorld()) return tr("no scene");
   const vaw::sim::World& w = simulation_->world();
   QString mode = simulation_->isPlaying() ? tr("playing") : tr("paused");
+  // The clock would time the fall, and so give the trial's scale away.
+  if (blinded_) return tr("trials session · %1").arg(mode);
   if (simulation_->isPlayback()) mode += tr(", playback");
   else if (simulation_->inPast()) mode += tr(", in the past");
   return tr("t %1 s · step %2 µs · %3 active · %4× · %5")

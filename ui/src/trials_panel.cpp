@@ -27,6 +27,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <system_error>
+#include <utility>
 
 #include "format.hpp"
 #include "vaw/error.hpp"
@@ -40,6 +41,8 @@
 namespace vaw::ui {
 
 namespace {
+// In the headset's adjustment, two hands closing within this time are one gesture: Accept.
+constexpr int kPairWindow_ms = 300;
 // A scripted hand that has not taken the part this long after the reset never will (a refused grab).
 constexpr double kTakeBy_s = 0.3;
 // Two-interval trials: the pause between the two falls, so they read as two.
@@ -178,6 +181,13 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   replayKey_ = new QAction(this);
   replayKey_->setShortcut(QKeySequence(Qt::Key_R));
   addAction(replayKey_);
+  pairTimer_ = new QTimer(this);
+  pairTimer_->setSingleShot(true);
+  pairTimer_->setInterval(kPairWindow_ms);
+  connect(pairTimer_, &QTimer::timeout, this, [this] {
+    const auto hand = std::exchange(pairedHand_, std::nullopt);
+    if (hand && running() && phase_ == Phase::Answering && !paused_) answers_[*hand]->click();
+  });
   pauseKey_ = new QAction(this);
   pauseKey_->setShortcut(QKeySequence(Qt::Key_P));
   addAction(pauseKey_);
@@ -541,7 +551,20 @@ void TrialsDock::frameReady() {
 
 void TrialsDock::headsetAnswer(int hand) {
   if (!running() || phase_ != Phase::Answering || paused_ || hand < 0 || hand > 1) return;
-  answers_[hand]->click();
+  if (design_->question.answers != trials::AnswerKind::Setting) {
+    answers_[hand]->click();
+    return;
+  }
+  // Adjusting: both hands closing together accept; one hand alone is slower or faster once it is clear
+  // that the other is not following.
+  if (pairedHand_ && *pairedHand_ != hand) {
+    pairTimer_->stop();
+    pairedHand_.reset();
+    answers_[2]->click();
+    return;
+  }
+  pairedHand_ = hand;
+  pairTimer_->start();
 }
 
 void TrialsDock::replay() {

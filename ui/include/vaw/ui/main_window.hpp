@@ -86,6 +86,9 @@ class MainWindow : public QMainWindow {
   void openFile(const QString& path);
   // Asks whether to save unsaved tuning: true when it was saved or may be dropped, false to cancel.
   bool maybeSave();
+  // True, having said why, while a trials session runs: its world plays the trial's scale, which must not
+  // be saved as the scene's tuning.
+  bool savingWaitsForTrials();
 
  protected:
   void closeEvent(QCloseEvent* event) override;

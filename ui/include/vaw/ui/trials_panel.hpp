@@ -31,6 +31,7 @@ class QLineEdit;
 class QProgressBar;
 class QPushButton;
 class QTabWidget;
+class QTimer;
 
 QT_BEGIN_NAMESPACE
 class QChartView;
@@ -79,7 +80,8 @@ class TrialsDock : public QDockWidget {
   // Ends the session (its answers are on disk already) and gives the window back its tuning.
   void stop();
   void replay();
-  // In the headset: the left hand closing answers as the first button (or key 1), the right as the second.
+  // In the headset: the left hand closing answers as the first button (or key 1), the right as the second;
+  // in the adjustment method both hands closing within 0.3 s of each other answer Accept (key 3).
   void headsetAnswer(int hand);
 
  signals:
@@ -143,6 +145,8 @@ class TrialsDock : public QDockWidget {
   QPushButton* answers_[3] = {nullptr, nullptr, nullptr};
   QAction* answerKeys_[3] = {nullptr, nullptr, nullptr};
   QAction* pauseKey_ = nullptr;
+  QTimer* pairTimer_ = nullptr;        // the headset's Accept: waits for the other hand
+  std::optional<int> pairedHand_;      // the hand that closed first
   QAction* replayKey_ = nullptr;
   QLabel* summary_ = nullptr;
   QChartView* chartView_ = nullptr;
