@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <optional>
 #include <string>
@@ -89,6 +90,19 @@ TEST(Stage, EachScenarioHasItsBundledScene) {
     EXPECT_GT(stage.releaseTime(), 0.3) << trials::name(s) << ": held still longer than the release window";
     EXPECT_GT((stage.eye() - stage.centre()).norm(), 0.5) << trials::name(s);
   }
+}
+
+// What the trials panel offers as bundled examples: each loads, and its scenario's script builds on its scene.
+TEST(Stage, EveryBundledDesignPlaysOnItsScene) {
+  int designs = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::resources() / "trials")) {
+    if (!entry.path().string().ends_with(".vaw-trial.json")) continue;
+    ++designs;
+    const trials::Design d = trials::loadDesign(entry.path());
+    const Assembly a = test::loadBundled(std::string(Stage::sceneFile(d.scenario)));
+    EXPECT_NO_THROW(Stage(d.scenario, a)) << entry.path();
+  }
+  EXPECT_EQ(designs, 4) << "one bundled design per scenario";
 }
 
 TEST(Stage, ADropFallsItsHeightInTheTimeOfTheScaledGravity) {
