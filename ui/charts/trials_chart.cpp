@@ -84,8 +84,12 @@ QChart* makeTrialsChart(const trials::ConditionAnalysis& a) {
   x->setRange(xMin, xMax);
   auto* y = new QValueAxis();
   y->setTitleText(settings ? "share of settings at or below the scale" : "share of answers \"faster\"");
-  y->setRange(0.0, 1.0);
-  y->setTickCount(6);
+  // A margin above 1 and below 0, so the answers at those shares (most of them, at the ends of the range)
+  // are whole points rather than halves cut by the plot's edge; the labels stay at 0, 0.2, ..., 1.
+  y->setRange(-0.05, 1.05);
+  y->setTickType(QValueAxis::TicksDynamic);
+  y->setTickAnchor(0.0);
+  y->setTickInterval(0.2);
   chart->addAxis(x, Qt::AlignBottom);
   chart->addAxis(y, Qt::AlignLeft);
 
