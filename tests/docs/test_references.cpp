@@ -8,6 +8,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -54,6 +55,13 @@ std::vector<fs::path> sourceFiles() {
 }
 
 std::string inRepo(const fs::path& p) { return fs::relative(p, kRoot).string(); }
+
+// Calls `f(line, number)` for each line of `file`, numbered from 1.
+void forEachLine(const fs::path& file, const std::function<void(const std::string&, int)>& f) {
+  std::istringstream in(read(file));
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) f(line, number);
+}
 
 // GitHub's heading anchors: lower case, punctuation other than '-' and '_' dropped, spaces as '-'.
 std::set<std::string> anchors(const std::string& markdown) {
@@ -129,14 +137,10 @@ TEST(References, CitedFilesExistInTheRepository) {
   std::vector<std::string> broken;
   std::size_t checked = 0;
   for (const auto& file : sourceFiles()) {
-    std::istringstream in(read(file));
-    std::string line;
-    int number = 0;
     bool fenced = false;
-    while (std::getline(in, line)) {
-      ++number;
+    forEachLine(file, [&](const std::string& line, int number) {
       if (file.extension() == ".md" && line.starts_with("```")) fenced = !fenced;
-      if (fenced || std::regex_search(line, include)) continue;  // examples; the compiler checks includes
+      if (fenced || std::regex_search(line, include)) return;  // examples; the compiler checks includes
       const auto check = [&](const std::string& target) {
         if (target.starts_with("build") || target.starts_with("/") || target.starts_with("./usr/")) return;
         const std::string first = target.substr(0, target.find('/'));
@@ -147,7 +151,7 @@ TEST(References, CitedFilesExistInTheRepository) {
       };
       for (std::sregex_iterator m(line.begin(), line.end(), path), end; m != end; ++m) check((*m)[1]);
       for (std::sregex_iterator m(line.begin(), line.end(), markdownName), end; m != end; ++m) check((*m)[1]);
-    }
+    });
   }
   EXPECT_GT(checked, 50u) << "comments and documents cite files";
   for (const auto& b : broken) ADD_FAILURE() << "cites a file that is not in the repository: " << b;
@@ -157,15 +161,10 @@ TEST(References, NoIssueTrackerNumbers) {
   // The repository has no issue tracker: an issue number (or an issue's title in quotes) in a comment
   // leads nowhere.
   const std::regex issue(R"(\bissues?\s*(#?\s*[0-9]+|"))", std::regex::icase);
-  for (const auto& file : sourceFiles()) {
-    std::istringstream in(read(file));
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
+  for (const auto& file : sourceFiles())
+    forEachLine(file, [&](const std::string& line, int number) {
       if (std::regex_search(line, issue)) ADD_FAILURE() << inRepo(file) << ":" << number << ": " << line;
-    }
-  }
+    });
 }
 
 TEST(References, NoPathLeavesTheRepository) {
@@ -173,22 +172,17 @@ TEST(References, NoPathLeavesTheRepository) {
   // only on one machine. Paths built at run or install time ($ORIGIN/.., $(dirname "$0")/..) are not
   // references to files.
   const std::regex climb(R"((^|[\s(`'"\[<,;=])((?:\.\./)+[A-Za-z0-9_.-][A-Za-z0-9_./-]*))");
+  const std::string root = fs::weakly_canonical(kRoot).string() + "/";
   std::size_t checked = 0;
-  for (const auto& file : sourceFiles()) {
-    std::istringstream in(read(file));
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
+  for (const auto& file : sourceFiles())
+    forEachLine(file, [&](const std::string& line, int number) {
       for (std::sregex_iterator m(line.begin(), line.end(), climb), end; m != end; ++m) {
         ++checked;
         const fs::path target = fs::weakly_canonical(file.parent_path() / std::string((*m)[2]));
-        const std::string root = fs::weakly_canonical(kRoot).string();
-        if (!target.string().starts_with(root + "/"))
+        if (!target.string().starts_with(root))
           ADD_FAILURE() << inRepo(file) << ":" << number << ": " << (*m)[2] << " leaves the repository";
       }
-    }
-  }
+    });
   EXPECT_GT(checked, 10u) << "the bundled scenes cite their meshes as ../meshes/...";
 }
 
@@ -196,12 +190,8 @@ TEST(Layering, TheCoreNeverIncludesQt) {
   const std::regex qt(R"(^\s*#\s*include\s*[<"](Q|Qt)[A-Za-z0-9]*[/>".])");
   for (const auto& file : sourceFiles()) {
     if (!inRepo(file).starts_with("core/")) continue;
-    std::istringstream in(read(file));
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
+    forEachLine(file, [&](const std::string& line, int number) {
       if (std::regex_search(line, qt)) ADD_FAILURE() << inRepo(file) << ":" << number << ": " << line;
-    }
+    });
   }
 }

@@ -434,10 +434,8 @@ void TestTrials::everyScenarioPlaysInThePanel() {
     for (int trial = 0; trial < 2; ++trial) {
       QTRY_VERIFY_WITH_TIMEOUT(dock()->phase() == TrialsDock::Phase::Answering, 30000);
       QVERIFY2(controller_->currentPath().endsWith(QString::fromLatin1(c.scene)), qPrintable(controller_->currentPath()));
-      const auto& g = world().settings().gravity;
-      const std::string motion = c.motion;
-      const double played = motion == "free-flight" ? g.freeFlight : motion == "slide" ? g.slide : g.rotation;
-      QCOMPARE(played, dock()->runner()->next()->scale);
+      QCOMPARE(vaw::trials::scaleFor(world().settings().gravity, dock()->runner()->design().motion),
+               dock()->runner()->next()->scale);
       const vaw::PartId part = world().assembly().base == vaw::PartId{0} ? 1 : 0;
       QStringList states;
       for (const auto& t : world().transitions())

@@ -45,7 +45,7 @@ namespace {
 constexpr int kPairWindow_ms = 300;
 // A scripted hand that has not taken the part this long after the reset never will (a refused grab).
 constexpr double kTakeBy_s = 0.3;
-// Two-interval trials: the pause between the two falls, so they read as two.
+// Two-interval trials: the pause between the two presentations, so they read as two.
 constexpr double kBetween_s = 0.6;
 // Adjustment: one press changes the scale by this factor, the step of a staircase's finest rung.
 constexpr double kAdjustFactor = 1.12;
@@ -176,7 +176,7 @@ TrialsDock::TrialsDock(SimulationController& simulation, AssemblyController& ass
   tl->addLayout(answerRow);
   replay_ = new QPushButton(tr("Replay  [R]"), trial);
   replay_->setObjectName(QStringLiteral("trialsReplay"));
-  replay_->setToolTip(tr("Plays this trial's fall again"));
+  replay_->setToolTip(tr("Plays this trial again"));
   tl->addWidget(replay_);
   replayKey_ = new QAction(this);
   replayKey_->setShortcut(QKeySequence(Qt::Key_R));
@@ -462,17 +462,17 @@ void TrialsDock::startTrial() {
     finish();
     return;
   }
-  falls_.clear();
+  presentations_.clear();
   if (t->referenceScale) {
-    falls_ = t->referenceFirst ? std::vector{*t->referenceScale, t->scale} : std::vector{t->scale, *t->referenceScale};
+    presentations_ = t->referenceFirst ? std::vector{*t->referenceScale, t->scale} : std::vector{t->scale, *t->referenceScale};
   } else {
     setting_ = t->scale;
-    falls_ = {t->scale};
+    presentations_ = {t->scale};
   }
-  fall_ = 0;
+  presenting_ = 0;
   caught_ = false;
   regrasp_.reset();
-  present(falls_[0]);
+  present(presentations_[0]);
 }
 
 void TrialsDock::present(double scale) {
@@ -488,13 +488,7 @@ void TrialsDock::present(double scale) {
     simulation_.setScript([stage = *stage_](double t, vaw::sim::Input& in) { stage.script(t, in); });
   }
   if (!headset) emit viewRequested(stage_->eye(), stage_->centre());
-  vaw::dyn::GravityScales g = *gravityBefore_;
-  switch (design_->motion) {
-    case trials::MotionKind::FreeFlight: g.freeFlight = scale; break;
-    case trials::MotionKind::Slide: g.slide = scale; break;
-    case trials::MotionKind::Rotation: g.rotation = scale; break;
-  }
-  simulation_.requestEdit(vaw::sim::GravityEdit{g});
+  simulation_.requestEdit(vaw::sim::GravityEdit{trials::withScale(*gravityBefore_, design_->motion, scale)});
   phase_ = Phase::Holding;
   if (!paused_) simulation_.play();
   updateControls();
@@ -507,7 +501,7 @@ void TrialsDock::frameReady() {
   const double t = w.time();
   const bool held = p.holder != vaw::sim::Holder::None;
   // The measures belong to the presentation of the trial's own scale (the other of two is the reference's).
-  const bool ownFall = falls_.size() < 2 || fall_ == (runner_->next()->referenceFirst ? 1u : 0u);
+  const bool ownScale = presentations_.size() < 2 || presenting_ == (runner_->next()->referenceFirst ? 1u : 0u);
   switch (phase_) {
     case Phase::Holding:
       if (participantActs_) {
@@ -524,12 +518,12 @@ void TrialsDock::frameReady() {
       }
       break;
     case Phase::Moving: {
-      if (held && ownFall && !regrasp_) {
+      if (held && ownScale && !regrasp_) {
         caught_ = true;  // taken back before the presentation was over
         regrasp_ = t - releasedAt_;
       }
       if (!stage_->over(w, t - releasedAt_)) break;
-      if (fall_ + 1 < falls_.size()) {
+      if (presenting_ + 1 < presentations_.size()) {
         phase_ = Phase::Between;
         betweenUntil_ = t + kBetween_s;
       } else {
@@ -539,11 +533,11 @@ void TrialsDock::frameReady() {
       break;
     }
     case Phase::Between:
-      if (t >= betweenUntil_) present(falls_[++fall_]);
+      if (t >= betweenUntil_) present(presentations_[++presenting_]);
       break;
     case Phase::Answering:
       // Taken back after the presentation: a re-grasp, though not a catch.
-      if (held && ownFall && !regrasp_) regrasp_ = t - releasedAt_;
+      if (held && ownScale && !regrasp_) regrasp_ = t - releasedAt_;
       break;
     default: break;
   }
@@ -569,18 +563,18 @@ void TrialsDock::headsetAnswer(int hand) {
 
 void TrialsDock::replay() {
   if (!running() || paused_ || (phase_ != Phase::Answering && phase_ != Phase::Moving)) return;
-  fall_ = 0;
+  presenting_ = 0;
   caught_ = false;
   regrasp_.reset();
-  present(falls_[0]);
+  present(presentations_[0]);
 }
 
 void TrialsDock::adjust(double factor) {
   if (phase_ != Phase::Answering || paused_ || !runner_->next()->adjustable) return;
   const trials::ScaleRange range = *runner_->next()->adjustable;
   setting_ = std::clamp(setting_ * factor, range.min, range.max);
-  falls_ = {setting_};
-  fall_ = 0;
+  presentations_ = {setting_};
+  presenting_ = 0;
   present(setting_);
 }
 

@@ -181,30 +181,27 @@ void WorkPrecisionDock::compute() {
   thread_->start();
 }
 
-void WorkPrecisionDock::cancel() {
-  if (!thread_) return;
-  stop_->store(true);
+void WorkPrecisionDock::endMeasurement(bool complete) {
   thread_->wait();
-  ++generation_;  // its last report is queued; what it found is dropped with it
   delete thread_;
   thread_ = nullptr;
   computeButton_->setEnabled(true);
   cancelButton_->setEnabled(false);
   scenarioBox_->setEnabled(true);
   progress_->setRange(0, 1);
-  progress_->setValue(0);
+  progress_->setValue(complete ? 1 : 0);
+}
+
+void WorkPrecisionDock::cancel() {
+  if (!thread_) return;
+  stop_->store(true);
+  ++generation_;  // its last report is queued; what it found is dropped with it
+  endMeasurement(false);
   note_->setText(tr("Cancelled."));
 }
 
 void WorkPrecisionDock::finish(std::vector<vaw::dyn::Record> records, bool cancelled, const QString& error) {
-  thread_->wait();
-  delete thread_;
-  thread_ = nullptr;
-  computeButton_->setEnabled(true);
-  cancelButton_->setEnabled(false);
-  scenarioBox_->setEnabled(true);
-  progress_->setRange(0, 1);
-  progress_->setValue(cancelled ? 0 : 1);
+  endMeasurement(!cancelled);
   if (!error.isEmpty()) {
     note_->setText(tr("The measurement failed: %1").arg(error));
   } else if (!cancelled) {

@@ -57,6 +57,24 @@ const Constraint* constraintOf(const Assembly& a, PartId part, Constraint::Type 
 
 }  // namespace
 
+double scaleFor(const dyn::GravityScales& scales, MotionKind motion) {
+  switch (motion) {
+    case MotionKind::FreeFlight: return scales.freeFlight;
+    case MotionKind::Slide: return scales.slide;
+    case MotionKind::Rotation: return scales.rotation;
+  }
+  return scales.freeFlight;
+}
+
+dyn::GravityScales withScale(dyn::GravityScales scales, MotionKind motion, double scale) {
+  switch (motion) {
+    case MotionKind::FreeFlight: scales.freeFlight = scale; break;
+    case MotionKind::Slide: scales.slide = scale; break;
+    case MotionKind::Rotation: scales.rotation = scale; break;
+  }
+  return scales;
+}
+
 std::string_view Stage::sceneFile(Scenario scenario) {
   switch (scenario) {
     case Scenario::DropFromHand:

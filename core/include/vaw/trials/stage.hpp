@@ -18,10 +18,16 @@
 #include <string_view>
 
 #include "vaw/assembly.hpp"
+#include "vaw/dynamics/gravity.hpp"
 #include "vaw/sim/world.hpp"
 #include "vaw/trials/design.hpp"
 
 namespace vaw::trials {
+
+// The scale `scales` sets for `motion`, and `scales` with that one set to `scale`: how a trial's scale
+// reaches the world.
+double scaleFor(const dyn::GravityScales& scales, MotionKind motion);
+dyn::GravityScales withScale(dyn::GravityScales scales, MotionKind motion, double scale);
 
 class Stage {
  public:

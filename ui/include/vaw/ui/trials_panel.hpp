@@ -123,8 +123,8 @@ class TrialsDock : public QDockWidget {
   bool participantActs_ = false;
   std::optional<vaw::dyn::GravityScales> gravityBefore_;  // the scene's tuning before the session
   std::optional<trials::Stage> stage_;                     // the scenario's script on the loaded scene
-  std::vector<double> falls_;                              // the scales this trial plays, in order
-  std::size_t fall_ = 0;                                   // the one playing
+  std::vector<double> presentations_;                      // the scales this trial plays, in order
+  std::size_t presenting_ = 0;                             // the one playing
   double setting_ = 1.0;                                   // adjustment: the scale the participant set
   double releasedAt_ = 0.0, betweenUntil_ = 0.0;           // world time, s
   bool caught_ = false;

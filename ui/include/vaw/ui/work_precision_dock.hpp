@@ -56,6 +56,8 @@ class WorkPrecisionDock : public QDockWidget {
  private:
   void draw();
   void finish(std::vector<vaw::dyn::Record> records, bool cancelled, const QString& error);
+  // Joins and deletes the measuring thread (done, or told to stop) and gives the controls back.
+  void endMeasurement(bool complete);
 
   QComboBox* scenarioBox_ = nullptr;
   QPushButton* computeButton_ = nullptr;
