@@ -29,6 +29,20 @@ namespace {
 
 nlohmann::json vec(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
+const char* massSource(vaw::MassSource s) {
+  switch (s) {
+    case vaw::MassSource::PropertyFile: return "property file";
+    case vaw::MassSource::Brep: return "B-rep";
+    case vaw::MassSource::Mesh: break;
+  }
+  return "mesh";
+}
+
+std::string partnerName(const vaw::Assembly& a, const vaw::Constraint& c) {
+  const auto partner = c.partner ? c.partner : a.base;
+  return partner ? a.parts[*partner].name : std::string("(none)");
+}
+
 nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
   nlohmann::json parts = nlohmann::json::array();
   for (const auto& p : a.parts) {
@@ -40,8 +54,9 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
                      {"extent_m", p.extent},
                      {"category", std::string(vaw::name(p.category.category))},
                      {"category_reason", p.category.reason},
-                     {"mass_source", p.massSource == vaw::MassSource::PropertyFile ? "property file" : "mesh"},
+                     {"mass_source", massSource(p.massSource)},
                      {"triangles", p.mesh->triangleCount()},
+                     {"product", p.product},
                      {"material", p.material},
                      {"is_base", a.base && *a.base == p.id}};
     if (p.disagreement)
@@ -56,8 +71,16 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
     nlohmann::json j{{"constraint", c.name},
                      {"type", std::string(vaw::name(c.type))},
                      {"part", a.parts[c.part].name},
+                     {"partner", partnerName(a, c)},
                      {"ok", f.support.problem.empty()},
                      {"fit", f.text}};
+    if (c.found) {
+      j["found"] = {{"clearance_m", c.found->clearance}, {"overlap", c.found->overlap}, {"from_spline", c.found->fromSpline}};
+      if (c.type == vaw::Constraint::Type::Insert) {
+        j["found"]["part_radius_m"] = c.found->partRadius;
+        j["found"]["partner_radius_m"] = c.found->partnerRadius;
+      }
+    }
     if (f.support.kind == vaw::collision::Support::Kind::Axis && f.support.problem.empty())
       j["clearance_m"] = f.support.clearance;
     fitList.push_back(std::move(j));
@@ -92,12 +115,19 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
     std::printf("%-18s %10.4f %12.3f %26s %32s %-11s %s\n", name.c_str(), p.mass.mass, 1e6 * p.mass.volume, com, mom,
                 std::string(vaw::name(p.category.category)).c_str(), p.category.reason.c_str());
     if (p.disagreement)
-      std::printf("%-18s property file vs mesh: mass %.3f %%, centre of mass %.3f mm, inertia %.3f %%\n", "",
+      std::printf("%-18s %s vs mesh: mass %.3f %%, centre of mass %.3f mm, inertia %.3f %%\n", "", massSource(p.massSource),
                   100.0 * p.disagreement->massRel, 1e3 * p.disagreement->comDistance, 100.0 * p.disagreement->inertiaRel);
   }
   for (const auto& f : fits) {
     const vaw::Constraint& c = a.constraints[f.constraint];
-    std::printf("constraint %s (%s): %s\n", c.name.c_str(), a.parts[c.part].name.c_str(), f.text.c_str());
+    std::printf("constraint %s (%s onto %s): %s\n", c.name.c_str(), a.parts[c.part].name.c_str(), partnerName(a, c).c_str(),
+                f.text.c_str());
+    if (c.found)
+      std::printf("%-18s found in the geometry: %s %.4f %s, clearance %.4f mm%s\n", "",
+                  c.type == vaw::Constraint::Type::Insert ? "axial overlap" : "overlap",
+                  c.type == vaw::Constraint::Type::Insert ? 1e3 * c.found->overlap : 1e6 * c.found->overlap,
+                  c.type == vaw::Constraint::Type::Insert ? "mm" : "mm^2", 1e3 * c.found->clearance,
+                  c.found->fromSpline ? " (a B-spline face recognised)" : "");
   }
   for (const auto& w : a.warnings) std::printf("warning: %s\n", w.message().c_str());
 }

@@ -29,6 +29,16 @@ void appendInto(const ImportedNode& n, TriMesh& out) {
 }
 }  // namespace
 
+bool ImportedMesh::isCad() const {
+  const auto any = [](const auto& self, const ImportedNode& n) -> bool {
+    if (n.solid) return true;
+    for (const auto& c : n.children)
+      if (self(self, c)) return true;
+    return false;
+  };
+  return any(any, root);
+}
+
 TriMesh ImportedNode::merged() const {
   // One copy into storage sized once: a 5-million-triangle file is 15 million vertices before welding.
   std::size_t vertices = 0, triangles = 0;

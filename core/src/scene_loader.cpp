@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "json_node.hpp"
+#include "load_detail.hpp"
+#include "vaw/cad_assembly.hpp"
 #include "vaw/dynamics/hinge.hpp"
 #include "vaw/limits.hpp"
 #include "vaw/paths.hpp"
@@ -16,6 +18,7 @@
 namespace vaw {
 
 using detail::Node;
+using detail::validateSolid;
 
 namespace {
 
@@ -129,8 +132,10 @@ TriMesh readPrimitive(const Node& n, double L) {
   return m;
 }
 
+}  // namespace
+
 // Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid.
-void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings, const ProgressFn& progressFn) {
+void detail::validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings, const ProgressFn& progressFn) {
   const Progress progress(progressFn);
   if (mesh.triangles.empty()) vaw::fail(file, "mesh", "a mesh with triangles", "no triangles");
   if (mesh.triangles.size() > limits::kMaxTriangles)
@@ -173,6 +178,8 @@ void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings
               volume < 0.0 ? "volume " + toString(volume) + " m^3: the normals point inward (inverted)" : "zero volume");
 }
 
+namespace {
+
 // Before a mesh file is read whole into memory.
 void checkMeshFileSize(const std::filesystem::path& file, const std::optional<Node>& field) {
   std::error_code ec;
@@ -192,7 +199,8 @@ struct Imported {
 // Loads, converts and validates a mesh file; problems name the scene field that referenced it.
 class MeshCache {
  public:
-  MeshCache(const ImporterRegistry& importers, Diagnostics& warnings) : importers_(importers), warnings_(warnings) {}
+  MeshCache(const ImporterRegistry& importers, Diagnostics& warnings, ImportOptions options)
+      : importers_(importers), warnings_(warnings), options_(options) {}
 
   const Imported& get(const std::filesystem::path& file, double L, const Node& field, const ProgressFn& progress) {
     if (const std::string problem = fileProblem(file); !problem.empty())
@@ -210,7 +218,7 @@ class MeshCache {
     }
     checkMeshFileSize(file, field);
     const Progress scaled(progress);
-    ImportedMesh im = importer->read(file, scaled.sub(0.0, 0.6));
+    ImportedMesh im = importer->read(file, options_, scaled.sub(0.0, 0.6));
     Imported out;
     out.root = std::move(im.root);
     out.warnings = std::move(im.warnings);
@@ -224,6 +232,7 @@ class MeshCache {
  private:
   const ImporterRegistry& importers_;
   Diagnostics& warnings_;
+  ImportOptions options_;
   std::map<std::string, Imported> cache_;
 };
 
@@ -252,7 +261,7 @@ class SceneReader {
   SceneReader(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
               const ProgressFn& progress)
       : path_(file), file_(file.string()), dir_(file.parent_path()), options_(options), progress_(progress),
-        meshes_(importers, assembly_.warnings) {}
+        importers_(importers), meshes_(importers, assembly_.warnings, options.import) {}
 
   Assembly read() {
     progress_.report(0.0, "reading " + path_.filename().string());
@@ -263,6 +272,10 @@ class SceneReader {
     const int v = version.integer();
     if (v < 1 || v > kSceneFormatVersion)
       version.fail("version 1 to " + std::to_string(kSceneFormatVersion) + " (the versions this vaw reads)");
+    if (root.has("cad")) {
+      if (v < 3) root.get("cad").fail("a scene of version 3 or later (\"cad\" came with version 3)");
+      return readCad(root);
+    }
     if (v >= 2)
       root.allowOnly({"format", "version", "name", "description", "units", "materials", "parts", "base", "environment",
                       "constraints", "tools", "settings"});
@@ -304,6 +317,53 @@ class SceneReader {
   }
 
  private:
+  // A scene over a CAD file (docs/scene-format.md, "cad"): the parts, tree and poses come from the file, the
+  // scene holds the base, the constraints and the tuning. A file that changed since the scene was saved
+  // is read anew: its constraints are found again and the saved ones are not applied.
+  Assembly readCad(const Node& root) {
+    root.allowOnly({"format", "version", "name", "description", "units", "cad", "constraints", "settings"});
+    if (auto d = root.opt("description")) (void)d->string();
+    const Node cad = root.get("cad");
+    cad.requireObject();
+    cad.allowOnly({"file", "hash", "base"});
+    const Node fileNode = cad.get("file");
+    const std::filesystem::path cadFile = dir_ / fileNode.string();
+    if (const std::string problem = fileProblem(cadFile); !problem.empty())
+      fileNode.failWith("an existing, readable CAD file", "\"" + cadFile.string() + "\": " + problem);
+    const MeshImporter* importer = importers_.find(cadFile);
+    if (!importer) fileNode.failWith("a STEP file (the Open CASCADE plugin reads it)", "\"" + cadFile.extension().string() + "\" with no importer for it");
+    LoadOptions opts = options_;
+    if (auto b = cad.opt("base")) opts.cadBase = b->string();
+    ImportedMesh im = importer->read(cadFile, opts.import, progress_.sub(0.0, 0.7));
+    if (!im.isCad()) fileNode.failWith("a CAD file with solids", "a mesh file");
+    try {
+      assembly_ = assemblyFromCad(std::move(im), cadFile, opts, progress_.sub(0.7, 0.9));
+    } catch (const InputError& e) {
+      // The base named in the scene is no part of the file any more: say where it was named.
+      if (e.diagnostic().field == "base" && cad.has("base")) cad.get("base").fail("the name of a part in " + cadFile.string());
+      throw;
+    }
+    assembly_.source = path_;
+    assembly_.name = root.get("name").string();
+    assembly_.tree.name = assembly_.name;
+    static const detail::Json metres = "m";
+    readUnits(root.has("units") ? root.get("units") : Node(metres, "units", file_));
+    const std::string savedHash = cad.has("hash") ? cad.get("hash").string() : std::string();
+    if (auto cons = root.opt("constraints")) {
+      if (savedHash == assembly_.cadHash) {
+        assembly_.constraints.clear();
+        readConstraints(*cons);
+      } else {
+        assembly_.warnings.push_back({Diagnostic::Severity::Warning, file_, "cad.hash", "the hash of the file when the scene was saved, " + savedHash,
+                                      assembly_.cadHash + ": " + cadFile.string() +
+                                          " changed since; its constraints were found anew and the saved ones not applied"});
+      }
+    }
+    if (auto settings = root.opt("settings")) readSettings(*settings);
+    progress_.report(1.0, "done");
+    return std::move(assembly_);
+  }
+
   void readUnits(const Node& n) {
     std::string length = "m", mass = "kg";
     const Node* lengthNode = &n;
@@ -547,7 +607,7 @@ class SceneReader {
       const std::string type = typeNode.string();
       Constraint con;
       if (type == "mate" || type == "align") {
-        c.allowOnly({"type", "name", "part", "part_plane", "base_plane", "offset"});
+        c.allowOnly({"type", "name", "part", "partner", "part_plane", "base_plane", "offset"});
         con.type = type == "mate" ? Constraint::Type::Mate : Constraint::Type::Align;
         con.partPlane = readPlane(c.get("part_plane"));
         con.basePlane = readPlane(c.get("base_plane"));
@@ -556,7 +616,7 @@ class SceneReader {
           if (!(std::abs(con.offset) <= limits::kMaxCoordinate)) o->fail("an offset within the world bound of 1000 m");
         }
       } else if (type == "insert") {
-        c.allowOnly({"type", "name", "part", "part_axis", "base_axis"});
+        c.allowOnly({"type", "name", "part", "partner", "part_axis", "base_axis"});
         con.type = Constraint::Type::Insert;
         con.partAxis = readAxis(c.get("part_axis"));
         con.baseAxis = readAxis(c.get("base_axis"));
@@ -569,6 +629,14 @@ class SceneReader {
       if (!id) partNode.fail("the name of a part in this scene");
       if (*id == *assembly_.base) partNode.fail("a part other than the base");
       con.part = *id;
+      if (auto pn = c.opt("partner")) {
+        const auto partner = assembly_.findPart(pn->string());
+        if (!partner) pn->fail("the name of a part in this scene");
+        if (*partner == *id) pn->fail("a part other than the constrained part itself");
+        if (!assembly_.parts[*partner].finalPose && *partner != *assembly_.base)
+          pn->fail("a part with a final_pose (the partner's assembled pose places the constraint)");
+        if (*partner != *assembly_.base) con.partner = *partner;
+      }
       con.name = c.has("name") ? c.get("name").string() : type + " " + partNode.string();
       checkAtFinalPose(con, c);
       assembly_.constraints.push_back(con);
@@ -669,7 +737,7 @@ class SceneReader {
     const Part& part = assembly_.parts[con.part];
     if (!part.finalPose) return;
     const Eigen::Isometry3d& P = *part.finalPose;
-    const Eigen::Isometry3d& B = assembly_.parts[*assembly_.base].pose;
+    const Eigen::Isometry3d& B = con.partner ? *assembly_.parts[*con.partner].finalPose : assembly_.parts[*assembly_.base].pose;
     constexpr double posTol = 1e-6, angTol = 1e-6;
     std::ostringstream why;
     if (con.type == Constraint::Type::Insert) {
@@ -698,6 +766,7 @@ class SceneReader {
   std::filesystem::path dir_;
   const LoadOptions& options_;
   Progress progress_;
+  const ImporterRegistry& importers_;
   detail::Json json_;
   Assembly assembly_;
   MeshCache meshes_;
@@ -725,7 +794,8 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
   const MeshImporter* importer = importers.find(file);
   if (!importer) fail(file.string(), "", "a mesh format an importer plugin reads", "\"" + file.extension().string() + "\"");
   checkMeshFileSize(file, std::nullopt);
-  ImportedMesh im = importer->read(file, progress.sub(0.0, 0.6));
+  ImportedMesh im = importer->read(file, options.import, progress.sub(0.0, 0.6));
+  if (im.isCad()) return assemblyFromCad(std::move(im), file, options, progress.sub(0.6, 1.0));
   for (const auto& w : im.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
 
   // glTF is metres by its specification; the other formats carry no unit.

@@ -89,7 +89,8 @@ class AssimpImporter final : public vaw::MeshImporter {
     return imp.IsExtensionSupported(file.extension().string());
   }
 
-  [[nodiscard]] vaw::ImportedMesh read(const std::filesystem::path& file, const vaw::ProgressFn& progress) const override {
+  [[nodiscard]] vaw::ImportedMesh read(const std::filesystem::path& file, const vaw::ImportOptions& /*options*/,
+                                  const vaw::ProgressFn& progress) const override {
     Assimp::Importer imp;
     imp.SetProgressHandler(new Progress(progress));  // the importer owns and deletes it
     // Lines and points carry no volume; drop them rather than fail on mixed files.

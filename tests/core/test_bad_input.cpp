@@ -294,7 +294,7 @@ TEST(BadInputSuite, TooManyTrianglesAreRefusedBeforeTheChecks) {
     [[nodiscard]] std::string name() const override { return "huge"; }
     [[nodiscard]] std::vector<std::string> extensions() const override { return {"huge"}; }
     [[nodiscard]] bool canRead(const std::filesystem::path&) const override { return true; }
-    [[nodiscard]] ImportedMesh read(const std::filesystem::path&, const ProgressFn&) const override {
+    [[nodiscard]] ImportedMesh read(const std::filesystem::path&, const ImportOptions&, const ProgressFn&) const override {
       ImportedMesh m;
       m.root.mesh.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
       m.root.mesh.triangles.assign(limits::kMaxTriangles + 1, Eigen::Vector3i(0, 1, 2));

@@ -29,7 +29,8 @@ struct Material {
   Eigen::Vector3f color{0.7f, 0.7f, 0.72f};
 };
 
-enum class MassSource { Mesh, PropertyFile };
+// Brep: the exact boundary representation of a CAD file (docs/step.md).
+enum class MassSource { Mesh, PropertyFile, Brep };
 
 struct Part {
   PartId id = 0;
@@ -42,12 +43,15 @@ struct Part {
   MassProperties mass;                   // the properties vaw uses
   MassSource massSource = MassSource::Mesh;
   std::optional<MassProperties> meshMass;      // computed from mesh and density, when possible
-  std::optional<MassProperties> fileMass;      // from the property file, when given
+  std::optional<MassProperties> fileMass;      // from the property file or the CAD file's B-rep, when given
   std::optional<MassComparison> disagreement;  // when both exist
   Principal principal;
   double extent = 0.0;                   // largest principal dimension, m
   CategoryResult category;
   std::filesystem::path propertyFile;
+  std::optional<Eigen::Vector3f> color;    // the CAD file's colour; else the material's
+  std::shared_ptr<const CadSolid> cad;     // the CAD solid (exact faces), shared between instances
+  std::string product;                     // the CAD product's own name (the part's is the instance's)
 };
 
 struct EnvironmentObject {
@@ -62,15 +66,28 @@ struct EnvironmentObject {
 struct Plane { Eigen::Vector3d point; Eigen::Vector3d normal; };  // normal unit length
 struct Axis { Eigen::Vector3d point; Eigen::Vector3d direction; }; // direction unit length
 
-// An assembly constraint between a part and the base, geometry in each one's own frame.
+// An assembly constraint between a part and its partner (the base unless `partner` names another part),
+// geometry in each one's own frame: the "base" members hold the partner's geometry.
 struct Constraint {
   enum class Type { Mate, Align, Insert };
   Type type = Type::Mate;
   std::string name;
   PartId part = 0;
+  std::optional<PartId> partner;   // empty: the base
   Plane partPlane{}, basePlane{};  // Mate (normals opposed) / Align (normals equal)
   Axis partAxis{}, baseAxis{};     // Insert
   double offset = 0.0;             // m, signed distance between the planes (Mate/Align)
+  // What recognition measured, for constraints found in the geometry (docs/step.md).
+  struct Found {
+    double partRadius = 0.0, partnerRadius = 0.0;  // m, Insert
+    double clearance = 0.0;                        // m, radial, Insert
+    double overlap = 0.0;  // m^2 of face overlap (Mate), m of axial overlap (Insert)
+    bool fromSpline = false;  // one of the faces was a B-spline recognised as a plane or cylinder
+  };
+  std::optional<Found> found;
+  // The direction the part comes home from, in the partner's frame: it travels along -homeDirection
+  // into its final pose (along the axis for an insert, onto the plane for a mate).
+  Eigen::Vector3d homeDirection = Eigen::Vector3d::UnitZ();
 };
 std::string_view name(Constraint::Type t);
 
@@ -117,6 +134,10 @@ struct TreeNode {
 struct Assembly {
   std::string name;
   std::filesystem::path source;
+  // Set when the parts come from a CAD file (STEP): that file and the hash of its bytes when it was read
+  // (docs/scene-format.md, "cad"). `source` is then the CAD file itself or the scene that refers to it.
+  std::filesystem::path cadFile;
+  std::string cadHash;
   LengthUnit units = LengthUnit::Metre;
   std::map<std::string, Material> materials;
   std::vector<Part> parts;

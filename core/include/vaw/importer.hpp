@@ -2,8 +2,10 @@
 // Mesh importers are plugins (shared libraries) behind this interface, so backends such as assimp or
 // Open CASCADE stay out of the core and can be added without rebuilding it.
 #include <filesystem>
+#include <exception>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -11,14 +13,66 @@
 
 namespace vaw {
 
+// Thrown when the progress callback asked to stop; nothing was loaded.
+class LoadCancelled : public std::exception {
+ public:
+  [[nodiscard]] const char* what() const noexcept override { return "loading cancelled"; }
+};
+
 // Called with a fraction in [0, 1] and a stage description; return false to cancel.
 using ProgressFn = std::function<bool(double fraction, const std::string& stage)>;
 
-// One node of a mesh file's own hierarchy (glTF nodes, OBJ groups, ...), names as in the file.
+// What the importer is asked for besides the file. Mesh formats ignore it; CAD formats tessellate with it.
+struct ImportOptions {
+  // Chordal deflection of the tessellation as a fraction of each part's bounding-box diagonal, and the
+  // angular deflection in radians (docs/step.md).
+  double relativeDeflection = 0.001;
+  double angularDeflection = 0.35;
+  // A CAD reader runs in a child process; past this it is ended and the file named as too slow.
+  double timeoutSeconds = 300.0;
+};
+
+// The exact geometry a CAD importer knows about one face of a solid, in the solid's own frame, metres.
+// Constraint recognition (vaw/constraints.hpp) works on these.
+struct CadFace {
+  enum class Surface { Plane, Cylinder, Other };
+  Surface surface = Surface::Other;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // plane: a point on it; cylinder: a point on its axis
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ(); // plane: unit normal pointing out of the material;
+                                                        // cylinder: unit axis direction
+  double radius = 0.0;                                  // cylinder, m
+  bool convex = true;             // cylinder: material inside (a shaft, a bolt's shank); false: a hole or bore
+  double axialMin = 0.0, axialMax = 0.0;  // cylinder: the face's extent along the axis, from `point`
+  double area = 0.0;              // m^2
+  bool fromSpline = false;        // a B-spline or other free-form surface recognised as this within tolerance
+  std::size_t firstTriangle = 0;  // this face's triangles are CadSolid::mesh.triangles[first, first + count)
+  std::size_t triangleCount = 0;
+};
+
+// One product's solid, shared by every instance of it. Geometry in the product's own frame, metres.
+struct CadSolid {
+  std::string product;  // the product's own name
+  TriMesh mesh;         // tessellation, outward oriented, faces' triangles contiguous
+  std::vector<CadFace> faces;
+  double volume = 0.0;                                    // m^3, from the boundary representation
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();     // m
+  Eigen::Matrix3d inertiaUnitDensity = Eigen::Matrix3d::Zero();  // m^5, about the centroid, density 1
+  double surfaceArea = 0.0;                               // m^2
+  std::optional<Eigen::Vector3f> color;                   // from the file, linear RGB in [0, 1]
+  double deflection = 0.0;                                // m, the chordal deflection used
+};
+
+// One node of a mesh file's own hierarchy (glTF nodes, OBJ groups, ...), names as in the file. For a
+// CAD assembly: an assembly node (children, no solid) or a part instance (a solid), placed by `location`.
 struct ImportedNode {
   std::string name;
   TriMesh mesh;  // this node's own meshes, node transforms applied, file frame and units
   std::vector<ImportedNode> children;
+  // CAD files only: the node's placement relative to its parent node (metres), the instance's solid
+  // (shared between instances of one product) and an instance colour that overrides the solid's.
+  Eigen::Isometry3d location = Eigen::Isometry3d::Identity();
+  std::shared_ptr<const CadSolid> solid;
+  std::optional<Eigen::Vector3f> color;
 
   [[nodiscard]] std::size_t subtreeTriangles() const;
   // This node's and all descendants' geometry in one mesh.
@@ -28,6 +82,12 @@ struct ImportedNode {
 struct ImportedMesh {
   ImportedNode root;  // the file's hierarchy and names
   std::vector<std::string> warnings;
+  // Set by importers of formats that declare their unit (STEP): the unit the file declared, e.g.
+  // "inch". The geometry is then already converted to metres.
+  std::optional<std::string> declaredUnit;
+  std::string format;  // e.g. "STEP AP214", for the part panel and notes
+  // True when the nodes are a CAD assembly (solids and locations), not meshes.
+  [[nodiscard]] bool isCad() const;
 };
 
 class MeshImporter {
@@ -38,12 +98,14 @@ class MeshImporter {
   [[nodiscard]] virtual std::vector<std::string> extensions() const = 0;
   [[nodiscard]] virtual bool canRead(const std::filesystem::path& file) const = 0;
   // Throws vaw::InputError naming the file on anything it cannot read.
-  [[nodiscard]] virtual ImportedMesh read(const std::filesystem::path& file, const ProgressFn& progress) const = 0;
+  // Throws vaw::LoadCancelled when `progress` returned false.
+  [[nodiscard]] virtual ImportedMesh read(const std::filesystem::path& file, const ImportOptions& options,
+                                          const ProgressFn& progress) const = 0;
 };
 
 // A plugin exports these two C symbols. The ABI version guards against loading a plugin built
 // against a different interface.
-inline constexpr int kImporterAbiVersion = 1;
+inline constexpr int kImporterAbiVersion = 2;  // 2: ImportOptions and CAD assemblies
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();

@@ -2,6 +2,8 @@
 // Reads a scene file (docs/scene-format.md) or a bare mesh file into a validated Assembly.
 // All or nothing: on any error an InputError is thrown and nothing is half-loaded.
 #include <filesystem>
+#include <optional>
+#include <string>
 
 #include "vaw/assembly.hpp"
 #include "vaw/importer.hpp"
@@ -15,10 +17,14 @@ struct LoadOptions {
   double bareMeshDensity = 7850.0;  // kg/m^3, steel
   // Relative disagreement between property file and mesh above which a warning is raised.
   double massDisagreementWarning = 0.01;
+  // Tessellation and time limit for CAD files (STEP).
+  ImportOptions import;
+  // The base of a CAD assembly, by part name; empty: the heaviest part.
+  std::optional<std::string> cadBase;
 };
 
-// Version 2 adds "tools"; version 1 files still load.
-inline constexpr int kSceneFormatVersion = 2;
+// Version 2 adds "tools", version 3 "cad" and constraints between parts ("partner"); earlier files still load.
+inline constexpr int kSceneFormatVersion = 3;
 
 Assembly loadScene(const std::filesystem::path& file, const ImporterRegistry& importers,
                    const LoadOptions& options = {}, const ProgressFn& progress = {});
@@ -31,12 +37,4 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
 Assembly loadAny(const std::filesystem::path& file, const ImporterRegistry& importers,
                  const LoadOptions& options = {}, const ProgressFn& progress = {});
 
-}  // namespace vaw
-
-namespace vaw {
-// Thrown when the progress callback asked to stop; nothing was loaded.
-class LoadCancelled : public std::exception {
- public:
-  [[nodiscard]] const char* what() const noexcept override { return "loading cancelled"; }
-};
 }  // namespace vaw

@@ -196,8 +196,10 @@ std::vector<ConstraintFit> constraintFits(const Assembly& a, const Tolerances& t
     const Constraint& c = a.constraints[i];
     ConstraintFit f;
     f.constraint = i;
-    f.support = c.type == Constraint::Type::Align ? matchSupport(c, *a.base, nullptr, nullptr, tol)
-                                                  : matchSupport(c, *a.base, of(c.part), of(*a.base), tol);
+    // A constraint to another part is matched against that part's surfaces the same way.
+    const PartId partner = c.partner.value_or(*a.base);
+    f.support = c.type == Constraint::Type::Align ? matchSupport(c, partner, nullptr, nullptr, tol)
+                                                  : matchSupport(c, partner, of(c.part), of(partner), tol);
     f.text = describeFit(f.support);
     out.push_back(std::move(f));
   }

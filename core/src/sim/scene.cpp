@@ -42,6 +42,7 @@ std::uint64_t hashOf(const Assembly& a) {
   for (const EnvironmentObject& e : a.environment) h = add(add(add(h, e.name), e.mesh.get()), e.pose);
   for (const Constraint& c : a.constraints) {
     h = add(add(h, static_cast<double>(c.type)), static_cast<double>(c.part));
+    if (c.partner) h = add(h, static_cast<double>(*c.partner));
     // Only the geometry of the constraint's type: the other members are never set (nor read).
     if (c.type == Constraint::Type::Insert) {
       for (const Axis* ax : {&c.partAxis, &c.baseAxis}) h = add(add(h, ax->point), ax->direction);
@@ -75,7 +76,16 @@ std::shared_ptr<const Scene> Scene::build(Assembly assembly, const ProgressFn& p
   for (std::size_t c = 0; c < constraints.size(); ++c) {
     if (progress && !progress(static_cast<double>(c) / static_cast<double>(constraints.size()), "constraint supports"))
       throw LoadCancelled();
-    scene->supports_.push_back(scene->collision_.support(constraints[c]));
+    if (constraints[c].partner) {
+      // The world captures parts only onto the base (docs/physics.md); a constraint to another part is kept
+      // for the panels, evaluation and saving, and never matched to the base's surfaces.
+      collision::Support none;
+      none.part = constraints[c].part;
+      none.problem = "its partner is a part, not the base";
+      scene->supports_.push_back(std::move(none));
+    } else {
+      scene->supports_.push_back(scene->collision_.support(constraints[c]));
+    }
   }
   scene->hash_ = hashOf(scene->assembly_);
   if (progress) progress(1.0, "scene ready");

@@ -76,7 +76,7 @@ std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
   const Eigen::Isometry3d& B = basePose;
   for (std::size_t ci = 0; ci < assembly.constraints.size(); ++ci) {
     const Constraint& c = assembly.constraints[ci];
-    if (c.part != id) continue;
+    if (c.part != id || c.partner) continue;
     Recognition rec;
     rec.constraint = ci;
     if (c.type == Constraint::Type::Insert) {
@@ -387,7 +387,7 @@ std::optional<dyn::StabilityReport> World::rotationStability(PartId id) const {
     hinge = w.models[id].hinge;
   } else {
     const auto c = std::find_if(w.assembly.constraints.begin(), w.assembly.constraints.end(), [&](const Constraint& k) {
-      return k.part == id && k.type == Constraint::Type::Insert;
+      return k.part == id && !k.partner && k.type == Constraint::Type::Insert;
     });
     if (c == w.assembly.constraints.end()) return std::nullopt;
     // Where it would turn: at its assembled pose relative to the base (the load pose without one).

@@ -72,7 +72,7 @@ SceneDescription describe(const Assembly& assembly) {
     dr.name = p.name;
     dr.mesh = bufferOf(*p.mesh);
     const auto it = assembly.materials.find(p.material);
-    dr.color = it != assembly.materials.end() ? toRgb(it->second.color) : Rgb{0.698f, 0.698f, 0.722f};
+    dr.color = p.color ? toRgb(*p.color) : it != assembly.materials.end() ? toRgb(it->second.color) : Rgb{0.698f, 0.698f, 0.722f};
     dr.pose = p.pose;
     d.partDrawable[p.id] = d.drawables.size();
     const Eigen::AlignedBox3d box = worldBox(dr.mesh->bounds, p.pose);

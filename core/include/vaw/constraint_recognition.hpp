@@ -1,0 +1,60 @@
+#pragma once
+// Assembly constraints found in the geometry of an assembled CAD model (docs/step.md, "Constraints
+// recognised"): an insert where a part's cylindrical face is coaxial with another's (a shaft in a bore,
+// equal radii or a clearance), a mate where planar faces meet face to face over a real area. Works on the
+// exact surfaces a CAD importer reports (vaw/importer.hpp, CadFace), at the parts' assembled poses.
+#include <Eigen/Geometry>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "vaw/assembly.hpp"
+#include "vaw/importer.hpp"
+
+namespace vaw {
+
+struct RecognitionTolerances {
+  double angle = 1e-4;            // rad between axes or normals
+  double distance = 1e-5;         // m between coaxial axes or coplanar planes (exports round at ~1e-6 m)
+  double maxClearance = 0.002;    // m, radial play still counted as an insert ...
+  double maxClearanceRel = 0.15;  // ... and at most this fraction of the bore's radius
+  double minOverlapRel = 1e-3;    // overlap below this fraction of the smaller face is a touch at an edge
+};
+
+// One part at its assembled pose (world frame) with its CAD solid.
+struct RecognitionPart {
+  std::shared_ptr<const CadSolid> solid;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  double mass = 0.0;
+};
+
+// One constraint between two parts, geometry in world coordinates at the assembled pose. `a` and `b` are
+// indices into the input; the faces index each solid's CadSolid::faces. For a mate, `direction` is a's
+// outward face normal (pointing into b); for an insert, the common axis direction.
+struct FoundConstraint {
+  Constraint::Type type = Constraint::Type::Mate;
+  std::size_t a = 0, b = 0;
+  std::size_t faceA = 0, faceB = 0;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();
+  Constraint::Found found;
+};
+
+// Every constraint between every pair of parts, in a deterministic order (by pair, then kind, then face).
+// A pair whose faces only meet at an edge or a point gives none. Parts without a solid are skipped.
+std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts,
+                                                  const RecognitionTolerances& tol = {});
+
+// The area common to two planar faces that lie in one plane (face A's triangles against face B's), m^2.
+double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b,
+                           const CadFace& fb, const Eigen::Isometry3d& poseB);
+
+// Turns found constraints into the assembly's: one per found pair and kind, with the part and the partner
+// chosen by assembly order (docs/step.md: the part nearer the base in the contact graph is the partner;
+// on a tie, the one whose lowest point is lower, then the heavier), geometry in each one's frame, the
+// base as an empty partner, and the direction each part comes home from. `finalPoses` are the parts'
+// assembled poses, `lowest` their lowest world z there.
+std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>& found, const std::vector<Part>& parts,
+                                             PartId base, const std::vector<Eigen::Isometry3d>& finalPoses);
+
+}  // namespace vaw

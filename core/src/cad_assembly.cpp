@@ -1,0 +1,296 @@
+#include "vaw/cad_assembly.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "collision/geometry2d.hpp"
+#include "load_detail.hpp"
+#include "vaw/categories.hpp"
+#include "vaw/hash.hpp"
+#include "vaw/constraint_recognition.hpp"
+#include "vaw/primitives.hpp"
+#include "vaw/scene_loader.hpp"
+
+namespace vaw {
+
+namespace {
+
+namespace g2 = collision::geom2;
+
+struct Instance {
+  const ImportedNode* node = nullptr;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // file's assembled pose, metres
+  std::string name;
+};
+
+void checkCancel(const ProgressFn& progress, double f, const std::string& stage) {
+  if (progress && !progress(std::clamp(f, 0.0, 1.0), stage)) throw LoadCancelled();
+}
+
+// Walks the file's tree: sub-assemblies become groups, solid instances parts (in file order).
+TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vector<Instance>& out, std::set<std::string>& names) {
+  const Eigen::Isometry3d pose = parent * n.location;
+  TreeNode t;
+  if (n.solid) {
+    std::string name = n.name.empty() ? n.solid->product : n.name;
+    if (name.empty()) name = "part";
+    // Part names identify parts in scenes and sessions, so repeated instance names get a number.
+    if (!names.insert(name).second) {
+      int k = 2;
+      while (!names.insert(name + " #" + std::to_string(k)).second) ++k;
+      name += " #" + std::to_string(k);
+    }
+    t.kind = TreeNode::Kind::Part;
+    t.name = name;
+    t.index = out.size();
+    out.push_back({&n, pose, name});
+    return t;
+  }
+  t.kind = TreeNode::Kind::Group;
+  t.name = n.name;
+  for (const auto& c : n.children) {
+    TreeNode child = walk(c, pose, out, names);
+    if (child.kind == TreeNode::Kind::Part || !child.children.empty()) t.children.push_back(std::move(child));
+  }
+  return t;
+}
+
+}  // namespace
+
+Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& com, const Principal& principal, const CadSolid* solid) {
+  std::vector<Eigen::Vector3d> downs;
+  if (solid) {
+    // The larger planar faces first: a part rests on a face it has, when it has one.
+    std::vector<const CadFace*> planes;
+    for (const auto& f : solid->faces)
+      if (f.surface == CadFace::Surface::Plane) planes.push_back(&f);
+    std::stable_sort(planes.begin(), planes.end(), [](const CadFace* a, const CadFace* b) { return a->area > b->area; });
+    for (const CadFace* f : planes) downs.push_back(f->direction.normalized());
+  }
+  for (int k = 0; k < 3; ++k) {
+    downs.push_back(principal.axes.col(k));
+    downs.push_back(-principal.axes.col(k));
+  }
+  const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
+  Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
+  double bestHeight = std::numeric_limits<double>::infinity();
+  bool bestStable = false;
+  for (const Eigen::Vector3d& d : downs) {
+    if (!d.allFinite() || d.norm() < 0.5) continue;
+    const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(d, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    double low = std::numeric_limits<double>::infinity();
+    for (const auto& v : mesh.vertices) low = std::min(low, (R * v).z());
+    std::vector<g2::P> support;
+    for (const auto& v : mesh.vertices) {
+      const Eigen::Vector3d w = R * v;
+      if (w.z() <= low + 1e-6 * size) support.emplace_back(w.x(), w.y());
+    }
+    const std::vector<g2::P> hull = g2::convexHull(support);
+    const Eigen::Vector3d c = R * com;
+    // Stable: the centre of mass above the support polygon, a little inside its edge.
+    const bool stable = hull.size() >= 3 && g2::signedDistanceConvex({c.x(), c.y()}, hull) > 1e-4 * size;
+    const double height = c.z() - low;
+    if ((stable && !bestStable) || (stable == bestStable && height < bestHeight - 1e-9 * size)) {
+      best = R;
+      bestHeight = height;
+      bestStable = stable;
+    }
+  }
+  return best;
+}
+
+std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, PartId base, const std::vector<Eigen::Matrix3d>& orientations,
+                                            double tableTop, double gap) {
+  std::vector<Eigen::Isometry3d> poses(parts.size(), Eigen::Isometry3d::Identity());
+  Eigen::AlignedBox3d baseBox;
+  for (const auto& v : parts[base].mesh->vertices) baseBox.extend(parts[base].pose * v);
+  poses[base] = parts[base].pose;
+  const double depthLimit = std::max(baseBox.sizes().y(), 0.3);
+  double columnX = baseBox.max().x() + gap, columnWidth = 0.0, y = baseBox.min().y();
+  for (PartId id = 0; id < parts.size(); ++id) {
+    if (id == base) continue;
+    const Eigen::Matrix3d& R = orientations[id];
+    Eigen::AlignedBox3d box;
+    for (const auto& v : parts[id].mesh->vertices) box.extend(R * v);
+    const Eigen::Vector3d size = box.sizes();
+    if (y > baseBox.min().y() && y + size.y() > baseBox.min().y() + depthLimit) {
+      columnX += columnWidth + gap;
+      columnWidth = 0.0;
+      y = baseBox.min().y();
+    }
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = R;
+    pose.translation() = Eigen::Vector3d(columnX, y, tableTop) - box.min();
+    poses[id] = pose;
+    columnWidth = std::max(columnWidth, size.x());
+    y += size.y() + gap;
+  }
+  return poses;
+}
+
+std::string fileContentHash(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) fail(file.string(), "", "a readable file", "cannot open it");
+  std::uint64_t h = kFnvOffset;
+  std::vector<char> buf(1 << 16);
+  while (in) {
+    in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
+    h = fnv1a(buf.data(), static_cast<std::size_t>(in.gcount()), h);
+  }
+  char text[32];
+  std::snprintf(text, sizeof text, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress) {
+  const std::string fileStr = file.string();
+  Assembly a;
+  a.source = file;
+  a.cadFile = file;
+  a.cadHash = fileContentHash(file);
+  a.name = imported.root.name.empty() ? file.stem().string() : imported.root.name;
+  a.units = LengthUnit::Metre;
+  a.categorySettings = options.categories;
+  for (const auto& w : imported.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "", "", w});
+  if (imported.declaredUnit)
+    a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "",
+                          "the file's length unit is " + *imported.declaredUnit + " (converted to metres)"});
+
+  std::vector<Instance> instances;
+  std::set<std::string> names;
+  a.tree = walk(imported.root, Eigen::Isometry3d::Identity(), instances, names);
+  a.tree.kind = TreeNode::Kind::Assembly;
+  a.tree.name = a.name;
+  if (instances.empty()) fail(fileStr, "", "a STEP file with at least one solid part", "no solid");
+
+  Material mat;
+  mat.name = "default";
+  mat.density = options.bareMeshDensity;
+  a.materials.emplace(mat.name, mat);
+  const double rho = options.bareMeshDensity;
+
+  // One welded mesh and one set of mass properties per product, shared by its instances.
+  struct Shared {
+    std::shared_ptr<const TriMesh> mesh;
+    MassProperties brep, mesh_;
+  };
+  std::map<const CadSolid*, Shared> shared;
+  for (std::size_t i = 0; i < instances.size(); ++i) {
+    const Instance& in = instances[i];
+    checkCancel(progress, 0.1 + 0.5 * static_cast<double>(i) / static_cast<double>(instances.size()), "part " + in.name);
+    const CadSolid& solid = *in.node->solid;
+    auto it = shared.find(&solid);
+    if (it == shared.end()) {
+      TriMesh mesh = solid.mesh;
+      detail::validateSolid(mesh, fileStr + " (product " + solid.product + ")", a.warnings, {});
+      Shared s;
+      s.mesh = std::make_shared<const TriMesh>(std::move(mesh));
+      if (!(solid.volume > 0.0) || !std::isfinite(solid.volume))
+        fail(fileStr, "product " + solid.product, "a solid with a positive, finite volume", std::to_string(solid.volume) + " m^3");
+      s.brep.volume = solid.volume;
+      s.brep.density = rho;
+      s.brep.mass = rho * solid.volume;
+      s.brep.centerOfMass = solid.centroid;
+      s.brep.inertiaCm = rho * solid.inertiaUnitDensity;
+      s.brep.surfaceArea = solid.surfaceArea;
+      s.mesh_ = massPropertiesFromMesh(*s.mesh, rho);
+      it = shared.emplace(&solid, std::move(s)).first;
+    }
+    Part p;
+    p.id = i;
+    p.name = in.name;
+    p.product = solid.product;
+    p.material = mat.name;
+    p.shapeSource = file.filename().string() + (solid.product.empty() ? "" : " (" + solid.product + ")");
+    p.mesh = it->second.mesh;
+    p.cad = in.node->solid;
+    p.color = in.node->color ? in.node->color : solid.color;
+    p.fileMass = it->second.brep;
+    p.meshMass = it->second.mesh_;
+    p.mass = it->second.brep;
+    p.massSource = MassSource::Brep;
+    p.disagreement = compare(*p.fileMass, *p.meshMass, p.mesh->bounds().diagonal().norm());
+    if (p.disagreement->worst() > options.massDisagreementWarning) {
+      std::ostringstream s;
+      s << "mass " << 100.0 * p.disagreement->massRel << " %, centre of mass " << 1000.0 * p.disagreement->comDistance
+        << " mm, inertia " << 100.0 * p.disagreement->inertiaRel << " % (the tessellation is coarse: lower the deflection)";
+      a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "part " + p.name,
+                            "the tessellation's mass properties within " + std::to_string(100.0 * options.massDisagreementWarning) +
+                                " % of the B-rep's",
+                            s.str()});
+    }
+    if (const std::string problem = inertiaProblem(p.mass.inertiaCm, 1e-6); !problem.empty())
+      fail(fileStr, "part " + p.name, "mass properties with a physically valid inertia", problem);
+    p.principal = principalMoments(p.mass.inertiaCm);
+    p.extent = principalExtent(*p.mesh, p.principal.axes);
+    p.category = categorize(p.mass.mass, p.extent, options.categories);
+    p.pose = in.pose;
+    a.parts.push_back(std::move(p));
+  }
+
+  // The base: named, else the heaviest.
+  PartId base = 0;
+  if (options.cadBase) {
+    const auto id = a.findPart(*options.cadBase);
+    if (!id) fail(fileStr, "base", "the name of a part in the file", "\"" + *options.cadBase + "\"");
+    base = *id;
+  } else {
+    for (PartId id = 1; id < a.parts.size(); ++id)
+      if (a.parts[id].mass.mass > a.parts[base].mass.mass) base = id;
+  }
+  a.base = base;
+
+  checkCancel(progress, 0.65, "recognising constraints");
+  std::vector<Eigen::Isometry3d> filePoses;
+  std::vector<RecognitionPart> rec;
+  for (const Part& p : a.parts) {
+    filePoses.push_back(p.pose);
+    rec.push_back({p.cad, p.pose, p.mass.mass});
+  }
+  a.constraints = constraintsFromFound(recognizeConstraints(rec), a.parts, base, filePoses);
+
+  checkCancel(progress, 0.85, "laying the parts out on the table");
+  // The base keeps the file's orientation and stands on the table with its footprint centred at the origin;
+  // every final pose keeps its place relative to the base.
+  Eigen::AlignedBox3d baseBox;
+  for (const auto& v : a.parts[base].mesh->vertices) baseBox.extend(filePoses[base] * v);
+  Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
+  shift.translation() = -Eigen::Vector3d(baseBox.center().x(), baseBox.center().y(), baseBox.min().z());
+  for (PartId id = 0; id < a.parts.size(); ++id) a.parts[id].finalPose = shift * filePoses[id];
+  a.parts[base].pose = shift * filePoses[base];
+  a.parts[base].finalPose.reset();
+  std::vector<Eigen::Matrix3d> orientations;
+  for (const Part& p : a.parts) orientations.push_back(restingOrientation(*p.mesh, p.mass.centerOfMass, p.principal, p.cad.get()));
+  const double gap = std::clamp(0.1 * baseBox.sizes().maxCoeff(), 0.01, 0.05);
+  const std::vector<Eigen::Isometry3d> poses = layOutBeside(a.parts, base, orientations, 0.0, gap);
+  for (PartId id = 0; id < a.parts.size(); ++id) a.parts[id].pose = poses[id];
+
+  // A table under all of it, its top at z = 0.
+  Eigen::AlignedBox3d all = a.worldBounds();
+  const double margin = std::max(0.1, gap * 2.0);
+  EnvironmentObject table;
+  table.name = "table";
+  table.kind = "table";
+  const Eigen::Vector3d size(all.sizes().x() + 2.0 * margin, all.sizes().y() + 2.0 * margin, 0.04);
+  table.mesh = std::make_shared<const TriMesh>(primitives::box(size));
+  table.shapeSource = "box";
+  table.pose.translation() = Eigen::Vector3d(all.center().x(), all.center().y(), -0.02);
+  table.color = Eigen::Vector3f(0.48f, 0.36f, 0.24f);
+  a.environment.push_back(std::move(table));
+  TreeNode tableNode;
+  tableNode.kind = TreeNode::Kind::Environment;
+  tableNode.name = "table";
+  tableNode.index = 0;
+  a.tree.children.push_back(std::move(tableNode));
+
+  checkCancel(progress, 1.0, "done");
+  return a;
+}
+
+}  // namespace vaw

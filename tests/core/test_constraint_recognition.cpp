@@ -1,0 +1,193 @@
+// Constraint recognition and the table layout on CAD solids built here by hand (exact faces, no CAD
+// kernel), so the rules are checked without Open CASCADE; tests/step checks them on real STEP files.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "vaw/cad_assembly.hpp"
+#include "vaw/constraint_recognition.hpp"
+
+namespace {
+
+using vaw::CadFace;
+using vaw::CadSolid;
+
+// A box [0, sx] x [0, sy] x [0, sz] with its six planar faces, two triangles each, outward.
+std::shared_ptr<CadSolid> box(double sx, double sy, double sz, const std::string& name) {
+  auto s = std::make_shared<CadSolid>();
+  s->product = name;
+  for (int i = 0; i < 8; ++i) s->mesh.vertices.emplace_back((i & 1) ? sx : 0.0, (i & 2) ? sy : 0.0, (i & 4) ? sz : 0.0);
+  // Each face: four corners counter-clockwise seen from outside, and its outward normal.
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  const Eigen::Vector3d normals[6] = {-Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitZ(), -Eigen::Vector3d::UnitY(),
+                                      Eigen::Vector3d::UnitY(),  -Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitX()};
+  const double areas[6] = {sx * sy, sx * sy, sx * sz, sx * sz, sy * sz, sy * sz};
+  for (int f = 0; f < 6; ++f) {
+    CadFace face;
+    face.surface = CadFace::Surface::Plane;
+    face.point = s->mesh.vertices[static_cast<std::size_t>(quads[f][0])];
+    face.direction = normals[f];
+    face.area = areas[f];
+    face.firstTriangle = s->mesh.triangles.size();
+    face.triangleCount = 2;
+    s->mesh.triangles.emplace_back(quads[f][0], quads[f][1], quads[f][2]);
+    s->mesh.triangles.emplace_back(quads[f][0], quads[f][2], quads[f][3]);
+    s->faces.push_back(face);
+  }
+  s->volume = sx * sy * sz;
+  s->centroid = Eigen::Vector3d(sx, sy, sz) / 2.0;
+  return s;
+}
+
+// A cylindrical face on the z axis from z0 to z1 (no triangles: inserts need only the exact surface),
+// inside a box-shaped mesh for the bounds.
+std::shared_ptr<CadSolid> cylinder(double r, double z0, double z1, bool convex, const std::string& name) {
+  auto s = box(2 * r, 2 * r, z1 - z0, name);
+  s->faces.clear();
+  CadFace f;
+  f.surface = CadFace::Surface::Cylinder;
+  f.point = Eigen::Vector3d(r, r, 0.0);
+  f.direction = Eigen::Vector3d::UnitZ();
+  f.radius = r;
+  f.convex = convex;
+  f.axialMin = 0.0;
+  f.axialMax = z1 - z0;
+  s->faces.push_back(f);
+  return s;
+}
+
+Eigen::Isometry3d at(double x, double y, double z) {
+  Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
+  p.translation() = Eigen::Vector3d(x, y, z);
+  return p;
+}
+
+TEST(ConstraintRecognition, FaceToFaceBoxesMateOverTheirCommonArea) {
+  // A 20 mm cube on a 40 x 40 mm plate, half of it overhanging the plate's edge.
+  const auto plate = box(0.040, 0.040, 0.010, "plate"), cube = box(0.020, 0.020, 0.020, "cube");
+  const auto found = vaw::recognizeConstraints({{plate, at(0, 0, 0), 1.0}, {cube, at(0.030, 0.010, 0.010), 0.1}});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].type, vaw::Constraint::Type::Mate);
+  EXPECT_EQ(found[0].a, 0u);
+  EXPECT_EQ(found[0].b, 1u);
+  // 10 mm of x (30..40) by 20 mm of y (10..30): 2e-4 m^2, exact for polygons up to round-off.
+  EXPECT_NEAR(found[0].found.overlap, 0.010 * 0.020, 1e-15);
+  EXPECT_TRUE(found[0].direction.isApprox(Eigen::Vector3d::UnitZ()));
+}
+
+TEST(ConstraintRecognition, BoxesTouchingAtAnEdgeOrWithAGapGiveNone) {
+  const auto a = box(0.020, 0.020, 0.020, "a"), b = box(0.020, 0.020, 0.020, "b");
+  // Along one edge: b's bottom face and a's top face share only the line x = 20 mm.
+  EXPECT_TRUE(vaw::recognizeConstraints({{a, at(0, 0, 0), 1.0}, {b, at(0.020, 0, 0.020), 1.0}}).empty());
+  // At a corner.
+  EXPECT_TRUE(vaw::recognizeConstraints({{a, at(0, 0, 0), 1.0}, {b, at(0.020, 0.020, 0.020), 1.0}}).empty());
+  // Side by side with a 0.1 mm gap: parallel faces, but not in one plane.
+  EXPECT_TRUE(vaw::recognizeConstraints({{a, at(0, 0, 0), 1.0}, {b, at(0.0201, 0, 0), 1.0}}).empty());
+}
+
+TEST(ConstraintRecognition, ShaftInBoreIsAnInsertWithItsClearance) {
+  const auto bore = cylinder(0.0065, 0.0, 0.008, false, "bracket");
+  const auto shaft = cylinder(0.006, 0.0, 0.034, true, "stud");
+  // Coaxial: the shaft's box is 0.5 mm narrower on each side, its axis at the same x, y.
+  const auto found = vaw::recognizeConstraints({{bore, at(0, 0, 0.008), 1.0}, {shaft, at(0.0005, 0.0005, -0.008), 0.1}});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].type, vaw::Constraint::Type::Insert);
+  EXPECT_NEAR(found[0].found.clearance, 0.0005, 1e-12);
+  EXPECT_NEAR(found[0].found.overlap, 0.008, 1e-12);
+  EXPECT_DOUBLE_EQ(found[0].found.partRadius, 0.0065);  // face a's radius: the bore's
+  EXPECT_DOUBLE_EQ(found[0].found.partnerRadius, 0.006);
+}
+
+TEST(ConstraintRecognition, OffAxisLooseDisjointOrBothBoresAreNoInsert) {
+  const auto bore = cylinder(0.0065, 0.0, 0.008, false, "bore");
+  // 1 mm off the axis.
+  EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0), 1.0}, {cylinder(0.006, 0, 0.02, true, "s"), at(0.0015, 0.0005, 0), 1.0}}).empty());
+  // A 4 mm radius in a 6.5 mm bore: 2.5 mm play is no fit.
+  EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0), 1.0}, {cylinder(0.004, 0, 0.02, true, "s"), at(0.0025, 0.0025, 0), 1.0}}).empty());
+  // On the axis but above the bore.
+  EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0), 1.0}, {cylinder(0.006, 0, 0.02, true, "s"), at(0.0005, 0.0005, 0.010), 1.0}}).empty());
+  // Two bores on one axis (a hole in a plate under a hole in a bracket).
+  EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0), 1.0}, {cylinder(0.006, 0, 0.02, false, "h"), at(0.0005, 0.0005, 0), 1.0}}).empty());
+}
+
+vaw::Part partOf(const std::shared_ptr<CadSolid>& s, vaw::PartId id, double mass) {
+  vaw::Part p;
+  p.id = id;
+  p.name = s->product;
+  p.cad = s;
+  p.mesh = std::make_shared<const vaw::TriMesh>(s->mesh);
+  p.mass.mass = mass;
+  p.mass.centerOfMass = s->centroid;
+  return p;
+}
+
+TEST(ConstraintRecognition, PartnersFollowTheAssemblyOrderFromTheBase) {
+  // plate (base) <- block on it <- cap on the block: the cap's partner is the block, the block's the base.
+  const auto plate = box(0.100, 0.100, 0.010, "plate"), block = box(0.020, 0.020, 0.020, "block"), cap = box(0.020, 0.020, 0.005, "cap");
+  const std::vector<Eigen::Isometry3d> poses{at(0, 0, 0), at(0.04, 0.04, 0.010), at(0.04, 0.04, 0.030)};
+  const std::vector<vaw::Part> parts{partOf(plate, 0, 2.0), partOf(block, 1, 0.5), partOf(cap, 2, 0.1)};
+  const auto found = vaw::recognizeConstraints({{plate, poses[0], 2.0}, {block, poses[1], 0.5}, {cap, poses[2], 0.1}});
+  ASSERT_EQ(found.size(), 2u);
+  const auto cons = vaw::constraintsFromFound(found, parts, 0, poses);
+  ASSERT_EQ(cons.size(), 2u);
+  EXPECT_EQ(cons[0].part, 1u);
+  EXPECT_FALSE(cons[0].partner.has_value());
+  EXPECT_EQ(cons[1].part, 2u);
+  ASSERT_TRUE(cons[1].partner.has_value());
+  EXPECT_EQ(*cons[1].partner, 1u);
+  EXPECT_EQ(cons[1].name, "mate cap on block");
+  // Geometry in each one's own frame: the cap's bottom (z = 0, normal down), the block's top (z = 20 mm, up).
+  EXPECT_NEAR(cons[1].partPlane.point.z(), 0.0, 1e-12);
+  EXPECT_TRUE(cons[1].partPlane.normal.isApprox(-Eigen::Vector3d::UnitZ()));
+  EXPECT_NEAR(cons[1].basePlane.point.z(), 0.020, 1e-12);
+  EXPECT_TRUE(cons[1].basePlane.normal.isApprox(Eigen::Vector3d::UnitZ()));
+  // It comes home from above, off the plane.
+  EXPECT_TRUE(cons[1].homeDirection.isApprox(Eigen::Vector3d::UnitZ()));
+}
+
+TEST(ConstraintRecognition, AnInsertComesHomeFromTheSideOfItsCentreOfMass) {
+  const auto plate = cylinder(0.006, 0.0, 0.008, false, "plate");
+  auto stud = cylinder(0.006, 0.0, 0.034, true, "stud");
+  const std::vector<Eigen::Isometry3d> poses{at(0, 0, 0.002), at(0, 0, 0.002)};
+  const std::vector<vaw::Part> parts{partOf(plate, 0, 2.0), partOf(stud, 1, 0.1)};
+  const auto found = vaw::recognizeConstraints({{plate, poses[0], 2.0}, {stud, poses[1], 0.1}});
+  ASSERT_EQ(found.size(), 1u);
+  const auto cons = vaw::constraintsFromFound(found, parts, 0, poses);
+  ASSERT_EQ(cons.size(), 1u);
+  EXPECT_EQ(cons[0].part, 1u);
+  EXPECT_EQ(cons[0].found->clearance, 0.0);
+  // The stud's centre of mass (17 mm up its 34 mm) lies above the hole's middle (4 mm): it comes from +z.
+  EXPECT_TRUE(cons[0].homeDirection.isApprox(Eigen::Vector3d::UnitZ()));
+}
+
+TEST(CadLayout, PartsRestOnTheirLargestStableFaceAndNeverOverlap) {
+  const auto base = box(0.200, 0.150, 0.020, "base");
+  std::vector<vaw::Part> parts{partOf(base, 0, 5.0)};
+  std::vector<Eigen::Matrix3d> orient{Eigen::Matrix3d::Identity()};
+  // Tall thin bars would fall over: each must lie on a long face, 10 mm high.
+  for (vaw::PartId id = 1; id <= 12; ++id) {
+    auto bar = box(0.010, 0.020, 0.120, "bar" + std::to_string(id));
+    parts.push_back(partOf(bar, id, 0.2));
+    const vaw::Principal pr = vaw::principalMoments(Eigen::Vector3d(1.0, 2.0, 3.0).asDiagonal().toDenseMatrix());
+    orient.push_back(vaw::restingOrientation(bar->mesh, bar->centroid, pr, bar.get()));
+  }
+  const auto poses = vaw::layOutBeside(parts, 0, orient, 0.0, 0.02);
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (vaw::PartId id = 0; id < parts.size(); ++id) {
+    Eigen::AlignedBox3d b;
+    for (const auto& v : parts[id].mesh->vertices) b.extend(poses[id] * v);
+    if (id > 0) {
+      EXPECT_NEAR(b.min().z(), 0.0, 1e-12) << id;
+      EXPECT_NEAR(b.sizes().z(), 0.010, 1e-9) << "bar " << id << " stands on its smallest face";
+    }
+    boxes.push_back(b);
+  }
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+      const Eigen::AlignedBox3d common = boxes[i].intersection(boxes[j]);
+      const bool overlap = !common.isEmpty() && (common.sizes().array() > 1e-9).all();
+      EXPECT_FALSE(overlap) << i << " and " << j;
+    }
+}
+
+}  // namespace
