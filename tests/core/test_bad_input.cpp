@@ -103,7 +103,7 @@ std::vector<Case> cases() {
       raw("NaNLiteral", "{\"format\": \"vaw-scene\", \"version\": NaN}", "line 1", "valid JSON"),
       raw("TopLevelNotObject", "[1, 2, 3]", "(top level)", "an object"),
       edit("WrongFormat", [](json& s) { s["format"] = "stl"; }, "format", "\"vaw-scene\""),
-      edit("FutureVersion", [](json& s) { s["version"] = 3; }, "version", "version 1 to 2"),
+      edit("FutureVersion", [](json& s) { s["version"] = 4; }, "version", "version 1 to 3"),
       edit("ToolsNeedVersion2", [](json& s) { s["tools"] = json::array(); }, "tools", "one of the keys"),
       edit("HoistTravelUpsideDown", [](json& s) {
              s["version"] = 2;
