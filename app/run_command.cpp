@@ -70,6 +70,8 @@ int run(const RunArgs& args) {
     }
     const auto loaded = sim::Scene::build(loadAny(resolveScenePath(session.scene), importers));
     if (replayFile.empty()) session.sceneHash = loaded->contentHash();
+    // A CAD assembly's parts are PLACED where they come to rest at home (docs/physics.md, "Parts on parts").
+    if (replayFile.empty() && loaded->assembly().settings.placeAtRest) session.settings.placeAtRest = true;
     const Assembly& assembly = loaded->assembly();
     const std::filesystem::path dir(out);
     std::error_code ec;

@@ -9,6 +9,11 @@ packages=(
   build-essential cmake ninja-build pkg-config file
   # core libraries
   libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev libcli11-dev
+  # STEP import (the Open CASCADE 7.6 plugin): XDE reader, modelling, meshing
+  libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
+  libocct-foundation-dev libocct-visualization-dev
+  # OCCT's CMake targets link /usr/lib/x86_64-linux-gnu/libtbb.so, which only the -dev package provides
+  libtbb-dev
   # Qt 6: Qt3D's CMake package also needs the OpenGL, xkbcommon and Vulkan headers
   qt6-base-dev qt6-3d-dev qt6-charts-dev qt6-svg-dev
   libqt6opengl6-dev libqt6openglwidgets6 libxkbcommon-dev libvulkan-dev libgl-dev

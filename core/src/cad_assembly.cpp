@@ -63,7 +63,25 @@ TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vecto
 
 }  // namespace
 
-Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& com, const Principal& principal, const CadSolid* solid) {
+Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& com, const Principal& principal, const CadSolid* solid,
+                                   const std::optional<Eigen::Matrix3d>& preferred) {
+  const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
+  // Height of the centre of mass over the table and whether it lies over the support, in orientation R.
+  const auto rest = [&](const Eigen::Matrix3d& R) {
+    double low = std::numeric_limits<double>::infinity();
+    for (const auto& v : mesh.vertices) low = std::min(low, (R * v).z());
+    std::vector<g2::P> support;
+    for (const auto& v : mesh.vertices) {
+      const Eigen::Vector3d w = R * v;
+      if (w.z() <= low + 1e-6 * size) support.emplace_back(w.x(), w.y());
+    }
+    const std::vector<g2::P> hull = g2::convexHull(support);
+    const Eigen::Vector3d c = R * com;
+    // Stable: the centre of mass above the support polygon, a little inside its edge.
+    const bool stable = hull.size() >= 3 && g2::signedDistanceConvex({c.x(), c.y()}, hull) > 1e-4 * size;
+    return std::pair{stable, c.z() - low};
+  };
+  if (preferred && rest(*preferred).first) return *preferred;
   std::vector<Eigen::Vector3d> downs;
   if (solid) {
     // The larger planar faces first: a part rests on a face it has, when it has one.
@@ -77,25 +95,13 @@ Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& c
     downs.push_back(principal.axes.col(k));
     downs.push_back(-principal.axes.col(k));
   }
-  const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
   Eigen::Matrix3d best = Eigen::Matrix3d::Identity();
   double bestHeight = std::numeric_limits<double>::infinity();
   bool bestStable = false;
   for (const Eigen::Vector3d& d : downs) {
     if (!d.allFinite() || d.norm() < 0.5) continue;
     const Eigen::Matrix3d R = Eigen::Quaterniond::FromTwoVectors(d, -Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    double low = std::numeric_limits<double>::infinity();
-    for (const auto& v : mesh.vertices) low = std::min(low, (R * v).z());
-    std::vector<g2::P> support;
-    for (const auto& v : mesh.vertices) {
-      const Eigen::Vector3d w = R * v;
-      if (w.z() <= low + 1e-6 * size) support.emplace_back(w.x(), w.y());
-    }
-    const std::vector<g2::P> hull = g2::convexHull(support);
-    const Eigen::Vector3d c = R * com;
-    // Stable: the centre of mass above the support polygon, a little inside its edge.
-    const bool stable = hull.size() >= 3 && g2::signedDistanceConvex({c.x(), c.y()}, hull) > 1e-4 * size;
-    const double height = c.z() - low;
+    const auto [stable, height] = rest(R);
     if ((stable && !bestStable) || (stable == bestStable && height < bestHeight - 1e-9 * size)) {
       best = R;
       bestHeight = height;
@@ -159,8 +165,8 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   a.categorySettings = options.categories;
   for (const auto& w : imported.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "", "", w});
   if (imported.declaredUnit)
-    a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "",
-                          "the file's length unit is " + *imported.declaredUnit + " (converted to metres)"});
+    a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "a length unit the file declares",
+                          *imported.declaredUnit + " (converted to metres)"});
 
   std::vector<Instance> instances;
   std::set<std::string> names;
@@ -254,6 +260,8 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     rec.push_back({p.cad, p.pose, p.mass.mass});
   }
   a.constraints = constraintsFromFound(recognizeConstraints(rec), a.parts, base, filePoses);
+  // Parts come home along their constraints and are PLACED where they come to rest there.
+  a.settings.placeAtRest = true;
 
   checkCancel(progress, 0.85, "laying the parts out on the table");
   // The base keeps the file's orientation and stands on the table with its footprint centred at the origin;
@@ -266,7 +274,9 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   a.parts[base].pose = shift * filePoses[base];
   a.parts[base].finalPose.reset();
   std::vector<Eigen::Matrix3d> orientations;
-  for (const Part& p : a.parts) orientations.push_back(restingOrientation(*p.mesh, p.mass.centerOfMass, p.principal, p.cad.get()));
+  for (const Part& p : a.parts)
+    orientations.push_back(restingOrientation(*p.mesh, p.mass.centerOfMass, p.principal, p.cad.get(),
+                                              p.finalPose ? std::optional<Eigen::Matrix3d>(p.finalPose->linear()) : std::nullopt));
   const double gap = std::clamp(0.1 * baseBox.sizes().maxCoeff(), 0.01, 0.05);
   const std::vector<Eigen::Isometry3d> poses = layOutBeside(a.parts, base, orientations, 0.0, gap);
   for (PartId id = 0; id < a.parts.size(); ++id) a.parts[id].pose = poses[id];

@@ -270,6 +270,12 @@ std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>&
     }
     out.push_back(std::move(c));
   }
+  // Grouped by part, inserts first: a released part is tried on its axes before its planes, since an axis
+  // also fixes where on the plane it sits.
+  std::stable_sort(out.begin(), out.end(), [](const Constraint& x, const Constraint& y) {
+    if (x.part != y.part) return x.part < y.part;
+    return (x.type == Constraint::Type::Insert) > (y.type == Constraint::Type::Insert);
+  });
   return out;
 }
 

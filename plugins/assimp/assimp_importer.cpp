@@ -64,6 +64,10 @@ vaw::ImportedNode convert(const aiScene& scene, const aiNode& node, const Eigen:
   return out;
 }
 
+// JSON is vaw's own scene format (assimp's "json" is an export format); .stp and .step are STEP, which
+// assimp reads only as IFC and the Open CASCADE plugin reads as CAD assemblies (docs/step.md).
+bool claimedElsewhere(const std::string& ext) { return ext == "json" || ext == "stp" || ext == "step"; }
+
 class AssimpImporter final : public vaw::MeshImporter {
  public:
   [[nodiscard]] std::string name() const override { return "assimp"; }
@@ -78,13 +82,16 @@ class AssimpImporter final : public vaw::MeshImporter {
     while (std::getline(ss, item, ';')) {
       if (item.rfind("*.", 0) == 0) item.erase(0, 2);
       std::transform(item.begin(), item.end(), item.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      // JSON is vaw's own scene format; assimp's "json" exporter format is not a mesh we read.
-      if (!item.empty() && item != "json") out.push_back(item);
+      if (!item.empty() && !claimedElsewhere(item)) out.push_back(item);
     }
     return out;
   }
 
   [[nodiscard]] bool canRead(const std::filesystem::path& file) const override {
+    std::string ext = file.extension().string();
+    if (!ext.empty()) ext.erase(0, 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (claimedElsewhere(ext)) return false;
     Assimp::Importer imp;
     return imp.IsExtensionSupported(file.extension().string());
   }

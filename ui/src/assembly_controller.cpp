@@ -92,6 +92,10 @@ QStringList AssemblyController::fileDialogFilters() const {
   everything << meshPatterns;
   filters << tr("Scenes and meshes (%1)").arg(everything.join(QLatin1Char(' ')));
   filters << tr("Scenes (*.vaw.json *.json)");
+  QStringList cadPatterns;
+  for (const char* ext : {"stp", "step", "p21"})
+    if (meshPatterns.contains(QStringLiteral("*.") + QLatin1String(ext))) cadPatterns << QStringLiteral("*.") + QLatin1String(ext);
+  if (!cadPatterns.isEmpty()) filters << tr("CAD assemblies (%1)").arg(cadPatterns.join(QLatin1Char(' ')));
   if (!meshPatterns.isEmpty()) filters << tr("Meshes (%1)").arg(meshPatterns.join(QLatin1Char(' ')));
   filters << tr("All files (*)");
   return filters;

@@ -4,6 +4,10 @@
 #include <QActionGroup>
 #include <QCheckBox>
 #include <QCloseEvent>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QMimeData>
+#include <QUrl>
 #include <QDialog>
 #include <QDialogButtonBox>
 #include <QMessageBox>
@@ -57,6 +61,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     : QMainWindow(parent), controller_(controller) {
   setObjectName(QStringLiteral("mainWindow"));
   setWindowTitle(tr("vaw"));
+  setAcceptDrops(true);
   simulation_ = new SimulationController(this);
   viewport_ = new Viewport(this);
   setCentralWidget(viewport_);
@@ -586,14 +591,20 @@ bool MainWindow::save() {
 bool MainWindow::saveAs() {
   if (!simulation_->hasWorld() || savingWaitsForTrials()) return false;
   const vaw::Assembly& loaded = simulation_->world().assembly();
-  if (!isSceneFile(QFile::decodeName(loaded.source.string().c_str()))) {
+  // A CAD file is saved as a scene that refers to it (vaw::sim::saveScene).
+  const bool cad = !loaded.cadFile.empty();
+  if (!cad && !isSceneFile(QFile::decodeName(loaded.source.string().c_str()))) {
     const QString text = tr("Only a scene (.vaw.json) can be saved with its tuning; %1 is not one. Save the session instead.")
                              .arg(QFile::decodeName(loaded.source.filename().string().c_str()));
     message(static_cast<int>(MessageLogModel::Severity::Warning), text);
     statusBar()->showMessage(text, 10000);
     return false;
   }
-  const QString start = scenePath_.isEmpty() ? QFile::decodeName(loaded.source.string().c_str()) : scenePath_;
+  QString start = scenePath_.isEmpty() ? QFile::decodeName(loaded.source.string().c_str()) : scenePath_;
+  if (cad && scenePath_.isEmpty()) {
+    std::filesystem::path next = loaded.cadFile;
+    start = QFile::decodeName(next.replace_extension(".vaw.json").string().c_str());
+  }
   QString file = QFileDialog::getSaveFileName(this, tr("Save scene with its tuning"), start, tr("Scenes (*.vaw.json)"));
   if (file.isEmpty()) return false;
   if (!file.endsWith(QStringLiteral(".json"))) file += QStringLiteral(".vaw.json");
@@ -634,6 +645,19 @@ bool MainWindow::maybeSave() {
     case QMessageBox::Discard: return true;
     default: return false;
   }
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
+  const QList<QUrl> urls = event->mimeData()->urls();
+  if (!urls.isEmpty() && urls.front().isLocalFile()) event->acceptProposedAction();
+}
+
+// A file dropped on the window opens as File > Open would open it (a scene, a mesh, a STEP file, a session).
+void MainWindow::dropEvent(QDropEvent* event) {
+  const QList<QUrl> urls = event->mimeData()->urls();
+  if (urls.isEmpty() || !urls.front().isLocalFile()) return;
+  event->acceptProposedAction();
+  openFile(urls.front().toLocalFile());
 }
 
 void MainWindow::closeEvent(QCloseEvent* event) {

@@ -50,15 +50,18 @@ void PartPropertiesModel::setPart(const vaw::Assembly* assembly, std::optional<v
       rows_.push_back(Row{std::move(property), std::move(value), std::move(toolTip), warn, false});
     };
     add(tr("Name"), format::str(p.name));
+    if (!p.product.empty() && p.product != p.name) add(tr("Product"), format::str(p.product), tr("the CAD file's own name for the part"));
     if (assembly->base && *assembly->base == p.id) add(tr("Role"), tr("base (held in the left hand)"));
     add(tr("Category"), format::str(std::string(vaw::name(p.category.category))),
         format::str(p.category.reason));
     add(tr("Category reason"), format::str(p.category.reason));
     add(tr("Mass"), format::mass(p.mass.mass), tr("%1 kg").arg(p.mass.mass, 0, 'g', 10));
-    const bool fromFile = p.massSource == vaw::MassSource::PropertyFile;
+    const bool brep = p.massSource == vaw::MassSource::Brep;
+    const bool fromFile = p.massSource == vaw::MassSource::PropertyFile || brep;
     add(tr("Mass source"),
-        fromFile ? tr("property file") : tr("mesh and density"),
-        fromFile ? format::str(p.propertyFile.string()) : QString());
+        brep ? tr("exact B-rep and density") : fromFile ? tr("property file") : tr("mesh and density"),
+        brep ? tr("integrated over the CAD file's boundary representation: %1").arg(format::str(assembly->cadFile.string()))
+             : fromFile ? format::str(p.propertyFile.string()) : QString());
     add(tr("Volume"), format::volume(p.mass.volume));
     if (p.mass.density > 0.0) add(tr("Density"), tr("%1 kg/m³").arg(format::number(p.mass.density)));
     add(tr("Centre of mass"), format::vectorMm(p.mass.centerOfMass), tr("in the part's own frame"));
@@ -77,11 +80,12 @@ void PartPropertiesModel::setPart(const vaw::Assembly* assembly, std::optional<v
     if (p.disagreement) {
       const vaw::MassComparison& d = *p.disagreement;
       const double limit = 0.01;  // vaw::LoadOptions::massDisagreementWarning's default
-      add(tr("File vs. mesh"),
+      add(brep ? tr("B-rep vs. mesh") : tr("File vs. mesh"),
           tr("mass %1, volume %2, CoM %3, inertia %4")
               .arg(format::percent(d.massRel), format::percent(d.volumeRel), format::lengthMm(d.comDistance),
                    format::percent(d.inertiaRel)),
-          tr("relative differences between the property file and the mesh; worst %1")
+          (brep ? tr("relative differences between the exact B-rep and its tessellation; worst %1")
+                : tr("relative differences between the property file and the mesh; worst %1"))
               .arg(format::percent(d.worst())),
           d.worst() > limit);
     }

@@ -118,6 +118,7 @@ struct SceneSettings {
   std::optional<double> rate;  // Hz
   std::optional<double> freeFlightScale, slideScale, rotationScale;
   std::optional<std::string> rotationMethod;  // a method name (dynamics/integrators.hpp)
+  std::optional<bool> placeAtRest;            // sim::Settings::placeAtRest; set for CAD assemblies
   std::map<PartId, FrictionValues> partFriction;  // per-part overrides of their material's friction
 };
 

@@ -23,10 +23,12 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
 // "fnv1a64:" and the 16 hex digits of the FNV-1a hash of the file's bytes; throws InputError naming it.
 std::string fileContentHash(const std::filesystem::path& file);
 
-// The orientation in which a part rests on a horizontal table: its centre of mass over its support and as
-// low as it goes among the candidate faces (its planar faces' normals and its principal axes, pointing down).
+// The orientation in which a part rests on a horizontal table: `preferred` (its assembled orientation, so
+// that it is picked up as it goes in) when its centre of mass lies over its support there; otherwise the
+// stable one with the lowest centre of mass among the candidate faces (its planar faces' normals and its
+// principal axes, pointing down).
 Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& centerOfMass, const Principal& principal,
-                                   const CadSolid* solid);
+                                   const CadSolid* solid, const std::optional<Eigen::Matrix3d>& preferred = std::nullopt);
 
 // Poses for the parts other than `base` (whose pose is kept) side by side on the table top (z = tableTop)
 // in rows beside the base, none overlapping, `gap` apart. `orientations` are the resting orientations.

@@ -33,7 +33,7 @@ struct ImportOptions {
 };
 
 // The exact geometry a CAD importer knows about one face of a solid, in the solid's own frame, metres.
-// Constraint recognition (vaw/constraints.hpp) works on these.
+// Constraint recognition (vaw/constraint_recognition.hpp) works on these.
 struct CadFace {
   enum class Surface { Plane, Cylinder, Other };
   Surface surface = Surface::Other;

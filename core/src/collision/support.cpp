@@ -213,7 +213,9 @@ Support CollisionWorld::support(const Constraint& c) const {
     s.problem = "the assembly has no base";
     return s;
   }
-  Support s = matchSupport(c, *base(), patches(ObjectId::part(c.part)), patches(ObjectId::part(*base())), tolerances());
+  // A constraint to another part rests the part on that part's surfaces, wherever the partner is.
+  const PartId partner = c.partner.value_or(*base());
+  Support s = matchSupport(c, partner, patches(ObjectId::part(c.part)), patches(ObjectId::part(partner)), tolerances());
   prepare(s);
   return s;
 }

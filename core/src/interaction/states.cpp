@@ -41,6 +41,7 @@ std::string_view name(Guard g) {
     case Guard::CanGrab: return "category allows these hands";
     case Guard::Dynamic: return "one-hand part";
     case Guard::NotDynamic: return "two-hand or tool part";
+    case Guard::PartnersPlaced: return "partners placed";
   }
   return "?";
 }
@@ -57,6 +58,8 @@ std::string refusal(Guard g, const GuardContext& c) {
       return c.category == Category::OneHand ? std::string() : "only one-hand parts get dynamic simulation";
     case Guard::NotDynamic:
       return c.category != Category::OneHand ? std::string() : "a one-hand part is simulated";
+    case Guard::PartnersPlaced:
+      return c.unplacedPartner.empty() ? std::string() : "its partner " + c.unplacedPartner + " is not placed yet";
   }
   return "unknown guard";
 }
@@ -79,17 +82,17 @@ const std::vector<Transition>& transitionTable() {
       {S::InHand, E::Release, G::Dynamic, S::InSpace, "thrown or dropped: free flight"},
       {S::InHand, E::Release, G::NotDynamic, S::Static, "set down where released (no dynamics)"},
       {S::OnTool, E::ToolDetach, G::None, S::Static, "set down by the tool"},
-      {S::InHand, E::ConstraintRecognized, G::None, S::OnBaseStatic, "released onto its mate"},
-      {S::OnTool, E::ConstraintRecognized, G::None, S::OnBaseStatic, "lowered onto its mate"},
-      {S::InHand, E::ReachedFinalLocation, G::None, S::Placed, "released at its assembled pose"},
-      {S::OnTool, E::ReachedFinalLocation, G::None, S::Placed, "lowered into its assembled pose"},
+      {S::InHand, E::ConstraintRecognized, G::PartnersPlaced, S::OnBaseStatic, "released onto its mate"},
+      {S::OnTool, E::ConstraintRecognized, G::PartnersPlaced, S::OnBaseStatic, "lowered onto its mate"},
+      {S::InHand, E::ReachedFinalLocation, G::PartnersPlaced, S::Placed, "released at its assembled pose"},
+      {S::OnTool, E::ReachedFinalLocation, G::PartnersPlaced, S::Placed, "lowered into its assembled pose"},
       // On the base.
       {S::OnBaseStatic, E::StaticFrictionOvercome, G::Dynamic, S::OnBaseSlide, "gravity beats static friction"},
       {S::OnBaseSlide, E::Stopped, G::None, S::OnBaseStatic, "kinetic friction stopped it"},
       {S::OnBaseSlide, E::Blocked, G::None, S::OnBaseStatic, "blocked by other geometry"},
       {S::OnBaseSlide, E::LostContact, G::None, S::InSpace, "slid off: free flight"},
-      {S::OnBaseSlide, E::ReachedFinalLocation, G::None, S::Placed, "slid into its assembled pose"},
-      {S::OnBaseStatic, E::ReachedFinalLocation, G::None, S::Placed, "resting at its assembled pose"},
+      {S::OnBaseSlide, E::ReachedFinalLocation, G::PartnersPlaced, S::Placed, "slid into its assembled pose"},
+      {S::OnBaseStatic, E::ReachedFinalLocation, G::PartnersPlaced, S::Placed, "resting at its assembled pose"},
       // In flight.
       {S::InSpace, E::HitEnvironment, G::None, S::Static, "hit the table or an object: stops (no resting pose)"},
   };

@@ -76,16 +76,7 @@ std::shared_ptr<const Scene> Scene::build(Assembly assembly, const ProgressFn& p
   for (std::size_t c = 0; c < constraints.size(); ++c) {
     if (progress && !progress(static_cast<double>(c) / static_cast<double>(constraints.size()), "constraint supports"))
       throw LoadCancelled();
-    if (constraints[c].partner) {
-      // The world captures parts only onto the base (docs/physics.md); a constraint to another part is kept
-      // for the panels, evaluation and saving, and never matched to the base's surfaces.
-      collision::Support none;
-      none.part = constraints[c].part;
-      none.problem = "its partner is a part, not the base";
-      scene->supports_.push_back(std::move(none));
-    } else {
-      scene->supports_.push_back(scene->collision_.support(constraints[c]));
-    }
+    scene->supports_.push_back(scene->collision_.support(constraints[c]));
   }
   scene->hash_ = hashOf(scene->assembly_);
   if (progress) progress(1.0, "scene ready");

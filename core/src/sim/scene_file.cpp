@@ -36,9 +36,62 @@ void rebaseNodes(Ordered& list, const std::filesystem::path& from, const std::fi
   }
 }
 
+Ordered vec(const Eigen::Vector3d& v) { return Ordered::array({v.x(), v.y(), v.z()}); }
+
+Ordered constraintJson(const Assembly& a, const Constraint& c) {
+  Ordered j{{"type", std::string(name(c.type))}, {"name", c.name}, {"part", a.parts[c.part].name}};
+  if (c.partner) j["partner"] = a.parts[*c.partner].name;
+  if (c.type == Constraint::Type::Insert) {
+    j["part_axis"] = Ordered{{"point", vec(c.partAxis.point)}, {"direction", vec(c.partAxis.direction)}};
+    j["base_axis"] = Ordered{{"point", vec(c.baseAxis.point)}, {"direction", vec(c.baseAxis.direction)}};
+  } else {
+    j["part_plane"] = Ordered{{"point", vec(c.partPlane.point)}, {"normal", vec(c.partPlane.normal)}};
+    j["base_plane"] = Ordered{{"point", vec(c.basePlane.point)}, {"normal", vec(c.basePlane.normal)}};
+    if (c.offset != 0.0) j["offset"] = c.offset;
+  }
+  return j;
+}
+
+Ordered settingsJson(const Assembly& loaded, const World& world) {
+  const Settings& s = world.settings();
+  Ordered materials = Ordered::object();
+  for (const auto& [name, m] : loaded.materials) materials[name] = frictionJson(world.materialFriction(name));
+  Ordered parts = Ordered::object();
+  for (PartId id = 0; id < loaded.parts.size(); ++id) {
+    if (const auto f = world.frictionOverride(id)) parts[loaded.parts[id].name] = frictionJson(*f);
+  }
+  Ordered friction{{"materials", materials}};
+  if (!parts.empty()) friction["parts"] = parts;
+  return Ordered{{"rate", s.rate},
+                 {"gravity_scale", {{"free_flight", s.gravity.freeFlight}, {"slide", s.gravity.slide}, {"rotation", s.gravity.rotation}}},
+                 {"rotation_method", std::string(dyn::name(s.rotationMethod))},
+                 {"friction", friction}};
+}
+
+// A CAD assembly is saved as a scene that refers to its file: the parts stay in the file, the scene holds
+// what the user decided (base, constraints, tuning), and the file's hash tells when it changed.
+void saveCadScene(const Assembly& loaded, const World& world, const std::filesystem::path& target) {
+  const std::filesystem::path toDir = std::filesystem::absolute(target).parent_path();
+  const std::filesystem::path cad = std::filesystem::absolute(loaded.cadFile).lexically_normal();
+  const std::filesystem::path rel = cad.lexically_relative(toDir);
+  Ordered cadJson{{"file", rel.empty() ? cad.generic_string() : rel.generic_string()}, {"hash", loaded.cadHash}};
+  if (loaded.base) cadJson["base"] = loaded.parts[*loaded.base].name;
+  Ordered constraints = Ordered::array();
+  for (const Constraint& c : loaded.constraints) constraints.push_back(constraintJson(loaded, c));
+  const Ordered json{{"format", "vaw-scene"},          {"version", 3},
+                     {"name", loaded.name},            {"units", "m"},
+                     {"cad", cadJson},                 {"constraints", constraints},
+                     {"settings", settingsJson(loaded, world)}};
+  writeFileAtomically(target, json.dump(2) + "\n");
+}
+
 }  // namespace
 
 void saveScene(const Assembly& loaded, const World& world, const std::filesystem::path& target) {
+  if (!loaded.cadFile.empty()) {
+    saveCadScene(loaded, world, target);
+    return;
+  }
   const std::string source = loaded.source.string();
   std::ifstream in(loaded.source, std::ios::binary);
   if (!in) fail(source, "", "the scene file the assembly was loaded from, readable (it is saved from it)");
@@ -56,20 +109,7 @@ void saveScene(const Assembly& loaded, const World& world, const std::filesystem
   if (json.contains("environment")) rebaseNodes(json["environment"], fromDir, toDir);
   json["version"] = 2;
 
-  const Settings& s = world.settings();
-  Ordered materials = Ordered::object();
-  for (const auto& [name, m] : loaded.materials) materials[name] = frictionJson(world.materialFriction(name));
-  Ordered parts = Ordered::object();
-  for (PartId id = 0; id < loaded.parts.size(); ++id) {
-    if (const auto f = world.frictionOverride(id)) parts[loaded.parts[id].name] = frictionJson(*f);
-  }
-  Ordered friction{{"materials", materials}};
-  if (!parts.empty()) friction["parts"] = parts;
-  json["settings"] = Ordered{{"rate", s.rate},
-                             {"gravity_scale",
-                              {{"free_flight", s.gravity.freeFlight}, {"slide", s.gravity.slide}, {"rotation", s.gravity.rotation}}},
-                             {"rotation_method", std::string(dyn::name(s.rotationMethod))},
-                             {"friction", friction}};
+  json["settings"] = settingsJson(loaded, world);
 
   // The previous file stays whole until the new one is complete on disk.
   writeFileAtomically(target, json.dump(2) + "\n");

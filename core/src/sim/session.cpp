@@ -266,6 +266,8 @@ Json settingsJson(const Settings& s) {
               {"grab_reach", s.grabReach},
               {"inertial_forces", s.inertialForces},
               {"rotation_model_tolerance", s.rotationModelTolerance}};
+  // Written only when on, so sessions of scenes without it are as they were.
+  if (s.placeAtRest) j["place"]["at_rest"] = true;
   if (s.hoist) j["hoist"] = {{"x", s.hoist->position.x()}, {"y", s.hoist->position.y()}, {"reach", s.hoist->reach}};
   return j;
 }
@@ -285,6 +287,7 @@ Settings settingsFrom(const Node& n) {
   s.recognizeAngle = n.get("recognize").get("angle").number(0.0, 180.0, "degrees");
   s.placeDistance = n.get("place").get("distance").number(0.0, limits::kMaxReach, "m");
   s.placeAngle = n.get("place").get("angle").number(0.0, 180.0, "degrees");
+  if (auto a = n.get("place").opt("at_rest")) s.placeAtRest = boolean(*a);
   s.grabReach = n.get("grab_reach").number(0.0, limits::kMaxReach, "m");
   s.inertialForces = boolean(n.get("inertial_forces"));
   s.rotationModelTolerance = n.get("rotation_model_tolerance").number(1e-9, 180.0, "degrees");

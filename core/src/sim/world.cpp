@@ -22,6 +22,7 @@ Settings settingsFor(const Assembly& assembly) {
   if (in.rotationScale) s.gravity.rotation = *in.rotationScale;
   if (in.rotationMethod)
     if (const auto m = dyn::parseMethod(*in.rotationMethod, dyn::Hinge::kMethods)) s.rotationMethod = *m;
+  if (in.placeAtRest) s.placeAtRest = *in.placeAtRest;
   return s;
 }
 
@@ -52,6 +53,17 @@ World::Impl::Impl(std::shared_ptr<const Scene> s, Settings st)
     parts[i].id = i;
     parts[i].pose = assembly.parts[i].pose;
   }
+  // A partner part is PLACED exactly at its final pose relative to the base, so its constraint geometry in
+  // the base's frame is fixed: the on-base models then treat it as the base's own.
+  inBaseFrame = assembly.constraints;
+  for (Constraint& c : inBaseFrame) {
+    if (!c.partner || !base) continue;
+    const Part& partner = assembly.parts[*c.partner];
+    const Eigen::Isometry3d T = baseLoad.inverse() * partner.finalPose.value_or(partner.pose);
+    c.baseAxis = {T * c.baseAxis.point, T.linear() * c.baseAxis.direction};
+    c.basePlane = {T * c.basePlane.point, T.linear() * c.basePlane.normal};
+    c.homeDirection = T.linear() * c.homeDirection;
+  }
   if (hoistTool) {
     lastInput.hoist.height = hoistTool->height;
     hook = hoistFrame(lastInput.hoist);
@@ -66,6 +78,12 @@ FrictionValues World::Impl::friction(PartId id) const {
   return {fallback.staticFriction, fallback.kineticFriction, fallback.rotationalFriction};
 }
 
+std::string World::Impl::unplacedPartner(PartId id) const {
+  for (const Constraint& c : assembly.constraints)
+    if (c.part == id && c.partner && parts[*c.partner].state != PartState::Placed) return assembly.parts[*c.partner].name;
+  return {};
+}
+
 std::string World::Impl::objectName(const std::optional<collision::ObjectId>& o) const {
   if (!o) return "?";
   if (o->kind == collision::ObjectId::Kind::Part) return assembly.parts[o->index].name;
@@ -76,6 +94,7 @@ bool World::Impl::fireEvent(PartId id, Event e, interact::Hands hands, const std
   interact::GuardContext ctx;
   ctx.category = def(id).category.category;
   ctx.hands = hands;
+  if (e == Event::ConstraintRecognized || e == Event::ReachedFinalLocation) ctx.unplacedPartner = unplacedPartner(id);
   PartRuntime& p = parts[id];
   const interact::Outcome o = interact::fire(p.state, e, ctx);
   if (!o.accepted) {

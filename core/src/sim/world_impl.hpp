@@ -122,6 +122,9 @@ struct World::Impl : Snapshot::State {
   std::optional<Hoist> hoistTool;  // settings.hoist, else the scene's first hoist
   Eigen::Isometry3d baseLoad = Eigen::Isometry3d::Identity();
   std::optional<PartId> base;
+  // The assembly's constraints with the partner's geometry in the base's frame (the base's own when the
+  // partner is the base; a partner part's at its final pose, where it is when PLACED).
+  std::vector<Constraint> inBaseFrame;
   std::vector<TransitionRecord> transitions;
   std::vector<Refusal> refusals;
   std::vector<EditRecord> edits;
@@ -147,6 +150,8 @@ struct World::Impl : Snapshot::State {
     return rateTime + static_cast<double>(stepIndex + 1 - rateStep) / settings.rate;
   }
   bool fireEvent(PartId id, interact::Event e, interact::Hands hands, const std::string& cause);
+  // The first of the part's constraint partners that is not PLACED yet (empty: none).
+  [[nodiscard]] std::string unplacedPartner(PartId id) const;
   // A moved part's pose reaches the collision world lazily: FCL's broad phase costs O(all objects) per
   // update (its tree height is recomputed), and a part's own queries pass its pose explicitly. So poses are
   // flushed only before a query by another part (or a grab, which reads bounds): with one active part the
@@ -205,6 +210,11 @@ struct World::Impl : Snapshot::State {
   void leaveBase(PartId id, const Eigen::Vector3d& v, const std::string& cause,
                  const Eigen::Vector3d& w = Eigen::Vector3d::Zero());
   void checkStart(PartId id);
+  // The first fraction of an axial slide from s0 to s1 at which the part meets the plane of one of its mates
+  // across the axis (a partner present: the base or PLACED), and that partner.
+  [[nodiscard]] std::optional<std::pair<double, collision::ObjectId>> mateStop(PartId id, double angle, double s0, double s1) const;
+  // With Settings::placeAtRest: a part come to rest on the base at its final pose is PLACED there.
+  void placeIfHome(PartId id);
 };
 
 }  // namespace vaw::sim

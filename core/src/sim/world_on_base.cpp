@@ -74,9 +74,9 @@ std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
   if (!base) return std::nullopt;
   const Eigen::Isometry3d& P = parts[id].pose;
   const Eigen::Isometry3d& B = basePose;
-  for (std::size_t ci = 0; ci < assembly.constraints.size(); ++ci) {
-    const Constraint& c = assembly.constraints[ci];
-    if (c.part != id || c.partner) continue;
+  for (std::size_t ci = 0; ci < inBaseFrame.size(); ++ci) {
+    const Constraint& c = inBaseFrame[ci];
+    if (c.part != id) continue;
     Recognition rec;
     rec.constraint = ci;
     if (c.type == Constraint::Type::Insert) {
@@ -127,7 +127,7 @@ bool World::Impl::atFinalPose(PartId id, Eigen::Isometry3d& snapped) const {
 void World::Impl::enterOnBase(PartId id, std::size_t ci) {
   PartRuntime& r = parts[id];
   PartModel& m = models[id];
-  const Constraint& c = assembly.constraints[ci];
+  const Constraint& c = inBaseFrame[ci];
   const Part& d = def(id);
   r.constraint = ci;
   r.angle = r.omega = r.slide = r.slideRate = 0.0;
@@ -252,6 +252,15 @@ void World::Impl::stepOnBase(PartId id, const Eigen::Vector3d& leaving) {
       m.free.valid = false;  // found again around the next step's start
     }
   }
+  if (r.model == Model::Cylindrical && s1 != s0) {
+    // A mate across the axis is a stop along it: a peg in a blind hole of its own radius, a nut on what it
+    // clamps. Decided on the exact planes, not the meshes, whose equal-radius rims only ever touch.
+    if (const auto stop = mateStop(id, a0, s0, s1); stop && stop->first < (ev.kind == collision::EventKind::None ? 1.0 : ev.s)) {
+      ev.kind = collision::EventKind::Blocked;
+      ev.s = stop->first;
+      ev.other = stop->second;
+    }
+  }
   const double x = ev.kind == collision::EventKind::None ? 1.0 : ev.s;
   r.angle = a0 + x * (a1 - a0);
   r.slide = s0 + x * (s1 - s0);
@@ -264,7 +273,7 @@ void World::Impl::stepOnBase(PartId id, const Eigen::Vector3d& leaving) {
   Eigen::Vector3d v = Eigen::Vector3d::Zero(), w = Eigen::Vector3d::Zero();
   if (r.model == Model::Cylindrical) {
     const Eigen::Vector3d u = B.linear() * m.hinge->axisInBase();
-    const Eigen::Vector3d arm = comWorld(id) - B * Eigen::Vector3d(assembly.constraints[*r.constraint].baseAxis.point + m.play);
+    const Eigen::Vector3d arm = comWorld(id) - B * Eigen::Vector3d(inBaseFrame[*r.constraint].baseAxis.point + m.play);
     w = u * r.omega;
     v = u * r.slideRate + w.cross(arm - u * u.dot(arm));
   } else {
@@ -289,6 +298,7 @@ void World::Impl::stepOnBase(PartId id, const Eigen::Vector3d& leaving) {
     m.sliding = false;
     fireEvent(id, Event::Blocked, interact::Hands::None,
               "blocked by " + objectName(ev.other) + fmt(" after %.6f of the step", x));
+    placeIfHome(id);
     return;
   }
   if (ev.kind == collision::EventKind::LostTouch) {
@@ -301,12 +311,51 @@ void World::Impl::stepOnBase(PartId id, const Eigen::Vector3d& leaving) {
     r.velocity.setZero();
     r.angularVelocity.setZero();
     fireEvent(id, Event::Stopped, interact::Hands::None, "kinetic friction stopped it");
+    placeIfHome(id);
   } else if (r.model == Model::Cylindrical && !m.sliding && rotationAtRest) {
     r.omega = 0.0;
     r.velocity.setZero();
     r.angularVelocity.setZero();
     fireEvent(id, Event::Stopped, interact::Hands::None, "rotation came to rest");
+    placeIfHome(id);
   }
+}
+
+std::optional<std::pair<double, collision::ObjectId>> World::Impl::mateStop(PartId id, double angle, double s0, double s1) const {
+  const Eigen::Vector3d u = models[id].hinge->axisInBase();
+  std::optional<std::pair<double, collision::ObjectId>> first;
+  for (const Constraint& c : inBaseFrame) {
+    if (c.part != id || c.type != Constraint::Type::Mate) continue;
+    if (c.partner && parts[*c.partner].state != PartState::Placed) continue;
+    if (std::abs(c.basePlane.normal.dot(u)) < std::cos(settings.recognizeAngle * kDeg)) continue;
+    const auto gap = [&](double s) {
+      return c.basePlane.normal.dot(inBaseOf(id, angle, s, Eigen::Vector2d::Zero()) * c.partPlane.point - c.basePlane.point) - c.offset;
+    };
+    const double g0 = gap(s0), g1 = gap(s1);
+    // Only a motion into the partner's face from its free side (within the contact tolerance) is stopped.
+    if (!(g1 < g0) || g0 < -collision.tolerances().distance || g1 >= 0.0) continue;
+    const double x = std::clamp(std::max(g0, 0.0) / (g0 - g1), 0.0, 1.0);
+    if (!first || x < first->first)
+      first = std::pair{x, collision::ObjectId::part(c.partner.value_or(*base))};
+  }
+  return first;
+}
+
+void World::Impl::placeIfHome(PartId id) {
+  if (!settings.placeAtRest || parts[id].state != PartState::OnBaseStatic) return;
+  Eigen::Isometry3d snapped;
+  if (!atFinalPose(id, snapped)) return;
+  PartRuntime& r = parts[id];
+  const Eigen::Isometry3d before = r.pose;
+  if (!fireEvent(id, Event::ReachedFinalLocation, interact::Hands::None,
+                 fmt("came to rest %.6f m, %.4f deg from the final pose", (snapped.translation() - before.translation()).norm(),
+                     angleOf(snapped.linear().transpose() * before.linear()) / kDeg)))
+    return;
+  setPose(id, snapped);
+  r.model = Model::None;
+  models[id].inBase = basePose.inverse() * snapped;
+  r.velocity.setZero();
+  r.angularVelocity.setZero();
 }
 
 void World::Impl::leaveBase(PartId id, const Eigen::Vector3d& v, const std::string& cause, const Eigen::Vector3d& w) {
@@ -386,10 +435,10 @@ std::optional<dyn::StabilityReport> World::rotationStability(PartId id) const {
   if (r.model == Model::Cylindrical && w.models[id].hinge) {
     hinge = w.models[id].hinge;
   } else {
-    const auto c = std::find_if(w.assembly.constraints.begin(), w.assembly.constraints.end(), [&](const Constraint& k) {
-      return k.part == id && !k.partner && k.type == Constraint::Type::Insert;
+    const auto c = std::find_if(w.inBaseFrame.begin(), w.inBaseFrame.end(), [&](const Constraint& k) {
+      return k.part == id && k.type == Constraint::Type::Insert;
     });
-    if (c == w.assembly.constraints.end()) return std::nullopt;
+    if (c == w.inBaseFrame.end()) return std::nullopt;
     // Where it would turn: at its assembled pose relative to the base (the load pose without one).
     const Eigen::Isometry3d inBase = w.baseLoad.inverse() * d.finalPose.value_or(d.pose);
     hinge = dyn::Hinge::make(c->baseAxis.point, c->baseAxis.direction, inBase, d.mass.mass, d.mass.centerOfMass,

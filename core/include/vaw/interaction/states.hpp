@@ -41,8 +41,13 @@ enum class Hands { None, Left, Right, Both };
 
 // What guards look at.
 struct GuardContext {
+  GuardContext() = default;
+  GuardContext(Category c, Hands h) : category(c), hands(h) {}
   Category category = Category::OneHand;
   Hands hands = Hands::None;  // for Grab: which hands close on the part
+  // For ConstraintRecognized and ReachedFinalLocation: a constraint partner of the part that is not PLACED
+  // yet (empty: every partner is, or the part's constraints are all to the base).
+  std::string unplacedPartner;
 };
 
 enum class Guard {
@@ -50,6 +55,7 @@ enum class Guard {
   CanGrab,     // one-hand: either hand or both; two-hand: both hands; tool-lifted: refused
   Dynamic,     // only one-hand parts get dynamic simulation
   NotDynamic,  // two-hand and tool parts stay where they are released
+  PartnersPlaced,  // the parts it is put onto are PLACED (constraints between parts)
 };
 std::string_view name(Guard g);
 // Empty when the guard passes, else why not.

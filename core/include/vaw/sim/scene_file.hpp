@@ -15,6 +15,8 @@ namespace vaw::sim {
 // folder to the same files. The file is written whole to a temporary file next to the target and then
 // renamed over it, so an interrupted save leaves the previous file. Errors are vaw::InputError naming the
 // file.
+// An assembly read from a CAD file is saved as a version 3 scene that refers to that file by a relative
+// path with its content hash, and holds the base, the constraints and the tuning (docs/scene-format.md).
 void saveScene(const Assembly& loaded, const World& world, const std::filesystem::path& target);
 
 }  // namespace vaw::sim

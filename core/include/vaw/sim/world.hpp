@@ -44,6 +44,10 @@ struct Settings {
   double recognizeAngle = 10.0;             // deg
   double placeDistance = 0.002;             // m: released this near its final pose it is PLACED
   double placeAngle = 2.0;                  // deg
+  // A part on the base that comes to rest (stopped or blocked) this near its final pose is PLACED too:
+  // on for CAD assemblies, whose parts slide home along their constraints (docs/physics.md, "Parts on
+  // parts"); off for earlier scenes, whose recorded sessions replay as they were.
+  bool placeAtRest = false;
   double grabReach = 0.05;                  // m: from the hand to the part's world bounds
   bool inertialForces = false;              // the hand-held base's acceleration (off, as in the paper)
   double rotationModelTolerance = 1.0;      // deg: constant-omega flight when its predicted error is below

@@ -1,0 +1,352 @@
+// STEP import: starts vaw-step-import (Open CASCADE, next to this plugin) on the file, relays its progress,
+// and turns its result into vaw's CAD assembly. Open CASCADE crashes or never returns on some files
+// (docs/step.md), so it never runs in the workbench's own process: a crash, a hang past the time limit
+// or a cancel ends only the child.
+#include <dlfcn.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "vaw/error.hpp"
+#include "vaw/importer.hpp"
+
+extern char** environ;
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+// Where this plugin's file is: the reader is installed beside it.
+std::filesystem::path pluginDir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&pluginDir), &info) == 0 || info.dli_fname == nullptr) return {};
+  return std::filesystem::path(info.dli_fname).parent_path();
+}
+
+// A fresh private folder for the child's result, removed however the read ends.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "vaw-step-XXXXXX").string();
+    if (mkdtemp(pattern.data()) == nullptr)
+      throw vaw::OutputError("cannot create a temporary folder: " + std::string(std::strerror(errno)));
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Ends the child if the read stops early (cancel, timeout, an exception from the progress callback).
+class Child {
+ public:
+  explicit Child(pid_t pid) : pid_(pid) {}
+  ~Child() { kill(); }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  void kill() {
+    if (pid_ <= 0) return;
+    ::kill(pid_, SIGKILL);
+    int status = 0;
+    while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {}
+    pid_ = -1;
+  }
+  // The wait status once it has exited, without blocking.
+  bool exited(int& status) {
+    if (pid_ <= 0) return false;
+    const pid_t r = waitpid(pid_, &status, WNOHANG);
+    if (r == pid_) {
+      pid_ = -1;
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  pid_t pid_;
+};
+
+class Fd {
+ public:
+  explicit Fd(int fd = -1) : fd_(fd) {}
+  ~Fd() { close(); }
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  void close() {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+  }
+  [[nodiscard]] int get() const { return fd_; }
+
+ private:
+  int fd_;
+};
+
+std::string seconds(double s) {
+  std::ostringstream o;
+  o << s;
+  return o.str();
+}
+
+std::string lastLine(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+  return last;
+}
+
+std::string signalName(int sig) {
+  const char* abbrev = sigabbrev_np(sig);
+  return "signal " + std::to_string(sig) + (abbrev ? std::string(", SIG") + abbrev : std::string());
+}
+
+// ---------------------------------------------------------------------------------------------------
+// The child's CBOR result
+
+template <typename T>
+std::vector<T> unblob(const json& j) {
+  const auto& bytes = j.get_binary();
+  std::vector<T> v(bytes.size() / sizeof(T));
+  if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * sizeof(T));
+  return v;
+}
+
+Eigen::Vector3d vec3(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
+Eigen::Vector3f color(const json& j) {
+  return {static_cast<float>(j.at(0).get<double>()), static_cast<float>(j.at(1).get<double>()),
+          static_cast<float>(j.at(2).get<double>())};
+}
+
+std::shared_ptr<const vaw::CadSolid> solidFrom(const json& j) {
+  auto s = std::make_shared<vaw::CadSolid>();
+  s->product = j.at("product").get<std::string>();
+  s->volume = j.at("volume").get<double>();
+  s->centroid = vec3(j.at("centroid"));
+  const json& I = j.at("inertia");
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) s->inertiaUnitDensity(r, c) = I.at(static_cast<std::size_t>(3 * r + c)).get<double>();
+  s->surfaceArea = j.at("area").get<double>();
+  s->deflection = j.at("deflection").get<double>();
+  if (j.contains("color")) s->color = color(j.at("color"));
+  const auto v = unblob<double>(j.at("vertices"));
+  const auto t = unblob<std::int32_t>(j.at("triangles"));
+  s->mesh.vertices.reserve(v.size() / 3);
+  for (std::size_t i = 0; i + 2 < v.size(); i += 3) s->mesh.vertices.emplace_back(v[i], v[i + 1], v[i + 2]);
+  s->mesh.triangles.reserve(t.size() / 3);
+  for (std::size_t i = 0; i + 2 < t.size(); i += 3) s->mesh.triangles.emplace_back(t[i], t[i + 1], t[i + 2]);
+  for (const json& jf : j.at("faces")) {
+    vaw::CadFace f;
+    const int kind = jf.at("surface").get<int>();
+    f.surface = kind == 0   ? vaw::CadFace::Surface::Plane
+                : kind == 1 ? vaw::CadFace::Surface::Cylinder
+                            : vaw::CadFace::Surface::Other;
+    f.area = jf.at("area").get<double>();
+    f.firstTriangle = jf.at("first").get<std::size_t>();
+    f.triangleCount = jf.at("count").get<std::size_t>();
+    if (jf.contains("point")) f.point = vec3(jf.at("point"));
+    if (jf.contains("direction")) f.direction = vec3(jf.at("direction")).normalized();
+    f.fromSpline = jf.value("fromSpline", false);
+    f.radius = jf.value("radius", 0.0);
+    f.convex = jf.value("convex", true);
+    f.axialMin = jf.value("axialMin", 0.0);
+    f.axialMax = jf.value("axialMax", 0.0);
+    s->faces.push_back(f);
+  }
+  return s;
+}
+
+vaw::ImportedNode nodeFrom(const json& j, const std::vector<std::shared_ptr<const vaw::CadSolid>>& solids) {
+  vaw::ImportedNode n;
+  n.name = j.at("name").get<std::string>();
+  if (j.contains("location")) {
+    const json& l = j.at("location");
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 4; ++c) m(r, c) = l.at(static_cast<std::size_t>(4 * r + c)).get<double>();
+    n.location = Eigen::Isometry3d(m);
+  }
+  if (j.contains("color")) n.color = color(j.at("color"));
+  if (j.contains("solid")) n.solid = solids.at(j.at("solid").get<std::size_t>());
+  if (j.contains("children"))
+    for (const json& c : j.at("children")) n.children.push_back(nodeFrom(c, solids));
+  return n;
+}
+
+class StepImporter final : public vaw::MeshImporter {
+ public:
+  [[nodiscard]] std::string name() const override { return "Open CASCADE STEP"; }
+  [[nodiscard]] std::vector<std::string> extensions() const override { return {"stp", "step", "p21"}; }
+  [[nodiscard]] bool canRead(const std::filesystem::path& file) const override {
+    std::string ext = file.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return ext == ".stp" || ext == ".step" || ext == ".p21";
+  }
+
+  [[nodiscard]] vaw::ImportedMesh read(const std::filesystem::path& file, const vaw::ImportOptions& options,
+                                       const vaw::ProgressFn& progress) const override {
+    const std::string name = file.string();
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(file, ec)) vaw::fail(name, "", "an existing, readable file", "no such file");
+    const std::filesystem::path reader = pluginDir() / "vaw-step-import";
+    if (access(reader.c_str(), X_OK) != 0)
+      vaw::fail(name, "", "a STEP reader installed with the STEP plugin", "no executable " + reader.string());
+
+    TempDir tmp;
+    const std::filesystem::path result = tmp.path() / "result.cbor";
+    const std::filesystem::path errors = tmp.path() / "stderr.txt";
+    const std::string rel = seconds(options.relativeDeflection), ang = seconds(options.angularDeflection);
+    std::vector<std::string> args = {reader.string(),        name, "--out", result.string(), "--relative-deflection", rel,
+                                     "--angular-deflection", ang};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+
+    int pipeFds[2];
+    if (pipe2(pipeFds, O_CLOEXEC) != 0) throw vaw::OutputError(std::string("cannot create a pipe: ") + std::strerror(errno));
+    Fd readEnd(pipeFds[0]), writeEnd(pipeFds[1]);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, writeEnd.get(), STDOUT_FILENO);
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    pid_t pid = 0;
+    const int spawned = posix_spawn(&pid, reader.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0)
+      vaw::fail(name, "", "a STEP reader that starts", "cannot start " + reader.string() + ": " + std::strerror(spawned));
+    Child child(pid);
+    writeEnd.close();
+
+    const auto start = Clock::now();
+    const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
+    double fraction = 0.0;
+    std::string stage = "starting the STEP reader";
+    auto lastReport = Clock::now();
+    const auto report = [&] {
+      lastReport = Clock::now();
+      if (progress && !progress(fraction, stage)) {
+        child.kill();
+        throw vaw::LoadCancelled();
+      }
+    };
+    const auto checkTime = [&] {
+      if (elapsed() > options.timeoutSeconds) {
+        child.kill();
+        vaw::fail(name, "", "a STEP file Open CASCADE reads within " + seconds(options.timeoutSeconds) + " s",
+                  "still reading after " + seconds(options.timeoutSeconds) + " s: " + stage);
+      }
+    };
+    report();
+
+    std::string pending;
+    bool open = true;
+    int status = 0;
+    bool done = false;
+    while (!done) {
+      if (open) {
+        pollfd p{readEnd.get(), POLLIN, 0};
+        const int r = poll(&p, 1, 20);
+        if (r > 0) {
+          char buf[4096];
+          const ssize_t n = ::read(readEnd.get(), buf, sizeof buf);
+          if (n > 0) {
+            pending.append(buf, static_cast<std::size_t>(n));
+            for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
+              const std::string line = pending.substr(0, nl);
+              pending.erase(0, nl + 1);
+              // "progress 0.350 tessellating bracket"; anything else on stdout is Open CASCADE's.
+              if (line.rfind("progress ", 0) != 0) continue;
+              char* end = nullptr;
+              const double f = std::strtod(line.c_str() + 9, &end);
+              if (end == line.c_str() + 9) continue;
+              fraction = std::clamp(f, 0.0, 1.0);
+              stage = *end == ' ' ? std::string(end + 1) : std::string();
+              report();
+            }
+          } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
+            open = false;
+          }
+        }
+      } else {
+        done = child.exited(status);
+        if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      }
+      checkTime();
+      // Open CASCADE reports nothing during a long parse or transfer: ask the caller anyway, so a
+      // cancel is honoured within a fifth of a second.
+      if (Clock::now() - lastReport > std::chrono::milliseconds(200)) report();
+    }
+
+    if (WIFSIGNALED(status))
+      vaw::fail(name, "", "a STEP file Open CASCADE can read",
+                "the reader crashed (" + signalName(WTERMSIG(status)) + ") while " + stage);
+    const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (code == 3) {
+      std::ifstream in(result, std::ios::binary);
+      if (in) {
+        try {
+          const json j = json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+          const json& e = j.at("error");
+          vaw::fail(name, e.at("field").get<std::string>(), e.at("expected").get<std::string>(),
+                    e.at("found").get<std::string>());
+        } catch (const json::exception&) {
+          // Fall back to the stderr line below.
+        }
+      }
+      vaw::fail(name, "", "a STEP file Open CASCADE can read", lastLine(errors));
+    }
+    if (code != 0) {
+      const std::string why = lastLine(errors);
+      vaw::fail(name, "", "a STEP file Open CASCADE can read",
+                "the reader failed (exit code " + std::to_string(code) + ")" + (why.empty() ? "" : ": " + why));
+    }
+
+    std::ifstream in(result, std::ios::binary);
+    if (!in) vaw::fail(name, "", "a STEP file Open CASCADE can read", "the reader wrote no result");
+    vaw::ImportedMesh out;
+    try {
+      const json j = json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
+      std::vector<std::shared_ptr<const vaw::CadSolid>> solids;
+      for (const json& s : j.at("solids")) solids.push_back(solidFrom(s));
+      out.root = nodeFrom(j.at("root"), solids);
+      out.warnings = j.value("warnings", std::vector<std::string>{});
+      out.format = j.value("format", std::string("STEP"));
+      if (j.contains("unit")) out.declaredUnit = j.at("unit").get<std::string>();
+    } catch (const std::exception& e) {
+      vaw::fail(name, "", "a STEP file Open CASCADE can read", std::string("an unreadable result from the reader: ") + e.what());
+    }
+    return out;
+  }
+};
+
+}  // namespace
+
+extern "C" __attribute__((visibility("default"))) int vaw_plugin_abi_version() { return vaw::kImporterAbiVersion; }
+extern "C" __attribute__((visibility("default"))) vaw::MeshImporter* vaw_create_mesh_importer() { return new StepImporter(); }

@@ -1,0 +1,216 @@
+#include "step_fixtures.hpp"
+
+#include <BRepAlgoAPI_Cut.hxx>
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRep_Builder.hxx>
+#include <IFSelect_ReturnStatus.hxx>
+#include <Interface_Static.hxx>
+#include <Message.hxx>
+#include <Message_Messenger.hxx>
+#include <Quantity_Color.hxx>
+#include <STEPCAFControl_Writer.hxx>
+#include <STEPControl_Controller.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
+#include <TDataStd_Name.hxx>
+#include <TDocStd_Document.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS_Compound.hxx>
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_ColorTool.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Trsf.hxx>
+
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <vector>
+
+namespace vaw::steptest {
+namespace {
+
+// Open CASCADE's writer settings are process-wide statics.
+std::mutex writerMutex;
+
+TopoDS_Shape box(double x0, double y0, double z0, double x1, double y1, double z1) {
+  return BRepPrimAPI_MakeBox(gp_Pnt(x0, y0, z0), gp_Pnt(x1, y1, z1)).Shape();
+}
+
+TopoDS_Shape cylinder(double x, double y, double z0, double radius, double height) {
+  return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(x, y, z0), gp_Dir(0, 0, 1)), radius, height).Shape();
+}
+
+TopoDS_Shape cut(const TopoDS_Shape& a, const TopoDS_Shape& b) {
+  BRepAlgoAPI_Cut op(a, b);
+  if (!op.IsDone()) throw std::runtime_error("step fixtures: boolean cut failed");
+  return op.Shape();
+}
+
+// Merges the faces a boolean leaves split on one plane or cylinder, as a CAD system's export would.
+TopoDS_Shape unify(const TopoDS_Shape& s) {
+  ShapeUpgrade_UnifySameDomain u(s, true, true, true);
+  u.Build();
+  return u.Shape();
+}
+
+TopoDS_Shape tube(double inner, double outer, double height) {
+  return unify(cut(cylinder(0, 0, 0, outer, height), cylinder(0, 0, -1, inner, height + 2)));
+}
+
+TopLoc_Location at(double x, double y, double z) {
+  gp_Trsf t;
+  t.SetTranslation(gp_Vec(x, y, z));
+  return TopLoc_Location(t);
+}
+
+// Product frames: each product at its own origin, every instance placed by a non-identity location (the
+// writer drops the instance name of an identity placement).
+TopoDS_Shape plateShape() {
+  // x -60..60, y -40..40, z 0..10; placed at (60, 40, 0). Blind holes from the top, z 2..10.
+  TopoDS_Shape s = box(-60, -40, 0, 60, 40, 10);
+  s = cut(s, cylinder(-20, 0, 2, 6, 9));
+  s = cut(s, cylinder(20, 0, 2, 6, 9));
+  s = cut(s, cylinder(45, -25, 2, 5, 9));
+  return unify(s);
+}
+
+TopoDS_Shape bracketShape() {
+  // Placed at (60, 40, 10): flange x 25..95, y 25..59, z 10..18; upright y 51..59, z 18..60, clear of the
+  // nuts (outer radius 10 mm about y = 40).
+  BRepAlgoAPI_Fuse fuse(box(-35, -15, 0, 35, 19, 8), box(-35, 11, 8, 35, 19, 50));
+  if (!fuse.IsDone()) throw std::runtime_error("step fixtures: boolean fuse failed");
+  TopoDS_Shape s = fuse.Shape();
+  s = cut(s, cylinder(-20, 0, -1, 6.5, 10));
+  s = cut(s, cylinder(20, 0, -1, 6.5, 10));
+  return unify(s);
+}
+
+struct Writer {
+  Handle(TDocStd_Document) doc;
+  Handle(XCAFDoc_ShapeTool) shapes;
+  Handle(XCAFDoc_ColorTool) colors;
+  bool bspline = false;
+
+  Writer() {
+    XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+    shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+    colors = XCAFDoc_DocumentTool::ColorTool(doc->Main());
+  }
+  TDF_Label assembly(const char* name) {
+    const TDF_Label l = shapes->NewShape();
+    TDataStd_Name::Set(l, name);
+    return l;
+  }
+  TDF_Label product(const char* name, const TopoDS_Shape& shape, std::vector<double> rgb = {}) {
+    const TopoDS_Shape s = bspline ? BRepBuilderAPI_NurbsConvert(shape, true).Shape() : shape;
+    const TDF_Label l = shapes->AddShape(s, false);
+    TDataStd_Name::Set(l, name);
+    if (rgb.size() == 3) colors->SetColor(l, Quantity_Color(rgb[0], rgb[1], rgb[2], Quantity_TOC_RGB), XCAFDoc_ColorGen);
+    return l;
+  }
+  void instance(const TDF_Label& parent, const TDF_Label& product, const char* name, const TopLoc_Location& where) {
+    const TDF_Label c = shapes->AddComponent(parent, product, where);
+    TDataStd_Name::Set(c, name);
+  }
+  void write(const std::filesystem::path& file, const std::string& schema, bool inches) {
+    shapes->UpdateAssemblies();
+    std::lock_guard<std::mutex> lock(writerMutex);
+    // The writer's statistics would fill the test logs.
+    Message::DefaultMessenger()->ChangePrinters().Clear();
+    if (schema != "AP203" && schema != "AP214" && schema != "AP242")
+      throw std::invalid_argument("step fixtures: schema " + schema + " (expected AP203, AP214 or AP242)");
+    // The writer reads the schema and unit when it creates its model, in its constructor: the statics
+    // must exist (Init) and be set before it.
+    STEPControl_Controller::Init();
+    Interface_Static::SetCVal("write.step.schema", schema == "AP203" ? "AP203" : schema == "AP242" ? "AP242DIS" : "AP214IS");
+    Interface_Static::SetCVal("write.step.unit", inches ? "INCH" : "MM");
+    STEPCAFControl_Writer writer;
+    writer.SetNameMode(true);
+    writer.SetColorMode(true);
+    const bool ok = writer.Transfer(doc, STEPControl_AsIs) && writer.Write(file.string().c_str()) == IFSelect_RetDone;
+    Interface_Static::SetCVal("write.step.schema", "AP214IS");
+    Interface_Static::SetCVal("write.step.unit", "MM");
+    if (!ok) throw std::runtime_error("step fixtures: cannot write " + file.string());
+  }
+};
+
+}  // namespace
+
+void writeBoltedBracket(const std::filesystem::path& file, const FixtureOptions& options) {
+  Writer w;
+  w.bspline = options.bsplineFaces;
+  const TDF_Label root = w.assembly("bolted-bracket");
+  const TDF_Label plate = w.product("plate", plateShape(), {0.6, 0.6, 0.62});
+  const TDF_Label bracket = w.product("bracket", bracketShape(), {0.2, 0.35, 0.8});
+  const TDF_Label stud = w.product("stud-m12", cylinder(0, 0, 0, 6, 34), {0.75, 0.75, 0.7});
+  const TDF_Label nut = w.product("nut-m12", tube(6, 10, 8), {0.8, 0.65, 0.2});
+  const TDF_Label pins = w.assembly("pin-assembly");
+  const TDF_Label pin = w.product("pin", cylinder(0, 0, 0, 5, 30));
+  const TDF_Label sleeve = w.product("sleeve", tube(5.2, 9, 15));
+  w.instance(root, plate, "base-plate", at(60, 40, 0));
+  w.instance(root, bracket, "bracket", at(60, 40, 10));
+  w.instance(root, stud, "stud-1", at(40, 40, 2));
+  w.instance(root, stud, "stud-2", at(80, 40, 2));
+  w.instance(root, nut, "nut-1", at(40, 40, 18));
+  w.instance(root, nut, "nut-2", at(80, 40, 18));
+  // The sub-assembly's frame is the pin's axis at the plate's bottom face.
+  w.instance(pins, pin, "pin", at(0, 0, 2));
+  w.instance(pins, sleeve, "sleeve", at(0, 0, 10));
+  w.instance(root, pins, "pin-assembly", at(105, 15, 0));
+  if (options.wireframeBeside) {
+    BRep_Builder b;
+    TopoDS_Compound lines;
+    b.MakeCompound(lines);
+    b.Add(lines, BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(120, 0, 0)).Edge());
+    b.Add(lines, BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(0, 80, 0)).Edge());
+    b.Add(lines, BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(0, 0, 60)).Edge());
+    TopoDS_Compound empty;
+    b.MakeCompound(empty);
+    const bool bspline = w.bspline;
+    w.bspline = false;
+    w.instance(root, w.product("construction-lines", lines), "construction-lines", at(0, 0, 1));
+    w.instance(root, w.product("empty-rep", empty), "empty-rep", at(0, 0, 2));
+    w.bspline = bspline;
+  }
+  w.write(file, options.schema, options.inches);
+}
+
+void writeManyParts(const std::filesystem::path& file, int count) {
+  if (count < 1) throw std::invalid_argument("step fixtures: writeManyParts needs count >= 1");
+  Writer w;
+  const TDF_Label root = w.assembly("many-parts");
+  const int others = count - 1;
+  const int columns = std::max(1, static_cast<int>(std::ceil(std::sqrt(static_cast<double>(others)))));
+  const double pitch = 30.0;
+  const double width = pitch * columns + 20, depth = pitch * std::max(1, (others + columns - 1) / columns) + 20;
+  const TDF_Label plate = w.product("base-plate", box(0, 0, 0, width, depth, 10), {0.6, 0.6, 0.62});
+  const TDF_Label kinds[4] = {w.product("stud-m12", cylinder(0, 0, 0, 6, 34), {0.75, 0.75, 0.7}),
+                              w.product("nut-m12", tube(6, 10, 8), {0.8, 0.65, 0.2}), w.product("pin", cylinder(0, 0, 0, 5, 30)),
+                              w.product("sleeve", tube(5.2, 9, 15))};
+  const char* names[4] = {"stud", "nut", "pin", "sleeve"};
+  w.instance(root, plate, "base-plate", at(0, 0, -10));
+  for (int i = 0; i < others; ++i) {
+    const int k = i % 4;
+    const std::string name = std::string(names[k]) + "-" + std::to_string(i / 4 + 1);
+    w.instance(root, kinds[k], name.c_str(), at(20 + pitch * (i % columns), 20 + pitch * (i / columns), 0));
+  }
+  w.write(file, "AP214", false);
+}
+
+void writeEdgeTouchingBoxes(const std::filesystem::path& file) {
+  Writer w;
+  const TDF_Label root = w.assembly("edge-touching-boxes");
+  const TDF_Label a = w.product("box-a", box(0, 0, 0, 20, 20, 20), {0.8, 0.3, 0.3});
+  const TDF_Label b = w.product("box-b", box(0, 0, 0, 20, 20, 20), {0.3, 0.3, 0.8});
+  // box-a spans x, y 0..20, box-b 20..40: they share only the edge x = y = 20.
+  w.instance(root, a, "box-a", at(0, 0, 0.5));
+  w.instance(root, b, "box-b", at(20, 20, 0.5));
+  w.write(file, "AP214", false);
+}
+
+}  // namespace vaw::steptest

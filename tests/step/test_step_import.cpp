@@ -1,0 +1,450 @@
+// STEP import through the plugin (libvaw_import_step.so and its reader process), on files the fixtures
+// write with Open CASCADE, so every expected number is exact (step_fixtures.cpp).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+
+#include "files.hpp"
+#include "step_fixtures.hpp"
+#include "vaw/error.hpp"
+#include "vaw/importer.hpp"
+#include "vaw/mass_properties.hpp"
+#include "vaw/mesh.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using vaw::CadFace;
+using vaw::CadSolid;
+using vaw::ImportedMesh;
+using vaw::ImportedNode;
+constexpr double kPi = std::numbers::pi;
+constexpr double kMm3 = 1e-9;
+
+// The STEP plugin alone, through the registry: assimp also lists .stp and .step (its IFC reader), so a
+// registry with every build plugin may not pick this one (RegistryPicksStepForStepFiles checks that).
+const vaw::MeshImporter& stepImporter() {
+  static vaw::ImporterRegistry registry;
+  static const vaw::MeshImporter* importer = [] {
+    // Links, not copies: the plugin finds its reader next to the path it was loaded from.
+    const fs::path dir = vaw::test::tempDir() / "plugins";
+    fs::create_directories(dir);
+    for (const char* f : {"libvaw_import_step.so", "vaw-step-import"})
+      fs::create_symlink(fs::path(VAW_BUILD_PLUGIN_DIR) / f, dir / f);
+    const auto problems = registry.loadPlugins(dir);
+    EXPECT_TRUE(problems.empty()) << problems.front();
+    return registry.find("x.stp");
+  }();
+  if (importer == nullptr) throw std::runtime_error("the STEP plugin did not load from " VAW_BUILD_PLUGIN_DIR);
+  return *importer;
+}
+
+ImportedMesh load(const fs::path& file, const vaw::ImportOptions& options = {}, const vaw::ProgressFn& progress = {}) {
+  return stepImporter().read(file, options, progress);
+}
+
+struct Instance {
+  std::string name;
+  Eigen::Isometry3d world;
+  std::shared_ptr<const CadSolid> solid;
+};
+
+void collect(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vector<Instance>& out) {
+  const Eigen::Isometry3d world = parent * n.location;
+  if (n.solid) out.push_back({n.name, world, n.solid});
+  for (const auto& c : n.children) collect(c, world, out);
+}
+
+std::map<std::string, Instance> instances(const ImportedMesh& m) {
+  std::vector<Instance> list;
+  collect(m.root, Eigen::Isometry3d::Identity(), list);
+  std::map<std::string, Instance> out;
+  for (auto& i : list) out.emplace(i.name, i);
+  EXPECT_EQ(out.size(), list.size()) << "instance names are not unique";
+  return out;
+}
+
+const ImportedNode* child(const ImportedNode& n, const std::string& name) {
+  for (const auto& c : n.children)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
+// mm^3, from the fixture's exact geometry.
+const std::map<std::string, double>& analyticVolumes() {
+  static const std::map<std::string, double> v = {
+      {"plate", 120.0 * 80 * 10 - 2 * kPi * 36 * 8 - kPi * 25 * 8},
+      {"bracket", 70.0 * 34 * 8 + 70.0 * 8 * 42 - 2 * kPi * 6.5 * 6.5 * 8},
+      {"stud-m12", kPi * 36 * 34},
+      {"nut-m12", kPi * (100 - 36) * 8},
+      {"pin", kPi * 25 * 30},
+      {"sleeve", kPi * (81 - 5.2 * 5.2) * 15},
+  };
+  return v;
+}
+
+struct FaceCount {
+  int planes = 0;
+  std::vector<const CadFace*> cylinders;
+  int other = 0;
+  int fromSpline = 0;
+};
+FaceCount countFaces(const CadSolid& s) {
+  FaceCount c;
+  for (const auto& f : s.faces) {
+    if (f.surface == CadFace::Surface::Plane) ++c.planes;
+    else if (f.surface == CadFace::Surface::Cylinder) c.cylinders.push_back(&f);
+    else ++c.other;
+    if (f.fromSpline) ++c.fromSpline;
+  }
+  return c;
+}
+
+class StepImport : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(vaw::test::tempDir());
+    vaw::steptest::writeBoltedBracket(file("bracket.stp"));
+    bracket_ = new ImportedMesh(load(file("bracket.stp")));
+  }
+  static void TearDownTestSuite() {
+    delete bracket_;
+    delete dir_;
+  }
+  static fs::path file(const std::string& name) { return *dir_ / name; }
+  static const ImportedMesh& bracket() { return *bracket_; }
+
+ private:
+  static fs::path* dir_;
+  static ImportedMesh* bracket_;
+};
+fs::path* StepImport::dir_ = nullptr;
+ImportedMesh* StepImport::bracket_ = nullptr;
+
+TEST_F(StepImport, BracketHasEightNamedPartInstances) {
+  const ImportedMesh& m = bracket();
+  EXPECT_TRUE(m.isCad());
+  EXPECT_EQ(m.format, "STEP AP214");
+  ASSERT_TRUE(m.declaredUnit.has_value());
+  EXPECT_EQ(*m.declaredUnit, "millimetre");
+  EXPECT_TRUE(m.warnings.empty()) << m.warnings.front();
+  const auto parts = instances(m);
+  EXPECT_EQ(parts.size(), 8u);
+  for (const char* name : {"base-plate", "bracket", "stud-1", "stud-2", "nut-1", "nut-2", "pin", "sleeve"})
+    EXPECT_TRUE(parts.count(name)) << name;
+}
+
+TEST_F(StepImport, TreeKeepsTheSubAssembly) {
+  const ImportedNode& root = bracket().root;
+  EXPECT_EQ(root.name, "bolted-bracket");
+  EXPECT_FALSE(root.solid);
+  ASSERT_EQ(root.children.size(), 7u);
+  const ImportedNode* pins = child(root, "pin-assembly");
+  ASSERT_NE(pins, nullptr);
+  EXPECT_FALSE(pins->solid);
+  ASSERT_EQ(pins->children.size(), 2u);
+  EXPECT_NE(child(*pins, "pin"), nullptr);
+  EXPECT_NE(child(*pins, "sleeve"), nullptr);
+  EXPECT_TRUE(pins->location.translation().isApprox(Eigen::Vector3d(0.105, 0.015, 0.0), 1e-12));
+  EXPECT_TRUE(child(*pins, "sleeve")->location.translation().isApprox(Eigen::Vector3d(0, 0, 0.010), 1e-12));
+  EXPECT_TRUE(child(root, "bracket")->location.translation().isApprox(Eigen::Vector3d(0.060, 0.040, 0.010), 1e-12));
+  EXPECT_TRUE(child(root, "bracket")->location.linear().isApprox(Eigen::Matrix3d::Identity(), 1e-12));
+}
+
+TEST_F(StepImport, InstancesOfOneProductShareOneSolid) {
+  const auto parts = instances(bracket());
+  EXPECT_EQ(parts.at("stud-1").solid.get(), parts.at("stud-2").solid.get());
+  EXPECT_EQ(parts.at("nut-1").solid.get(), parts.at("nut-2").solid.get());
+  EXPECT_NE(parts.at("stud-1").solid.get(), parts.at("nut-1").solid.get());
+  EXPECT_EQ(parts.at("stud-1").solid->product, "stud-m12");
+  EXPECT_EQ(parts.at("nut-2").solid->product, "nut-m12");
+  EXPECT_EQ(parts.at("base-plate").solid->product, "plate");
+  // Placed in the world where the fixture put them.
+  const Eigen::Vector3d studCentre = parts.at("stud-2").world * parts.at("stud-2").solid->centroid;
+  EXPECT_TRUE(studCentre.isApprox(Eigen::Vector3d(0.080, 0.040, 0.019), 1e-12)) << studCentre.transpose();
+  const Eigen::Vector3d pinCentre = parts.at("pin").world * parts.at("pin").solid->centroid;
+  EXPECT_TRUE(pinCentre.isApprox(Eigen::Vector3d(0.105, 0.015, 0.017), 1e-12)) << pinCentre.transpose();
+}
+
+TEST_F(StepImport, VolumesMatchTheExactGeometry) {
+  for (const auto& [name, part] : instances(bracket())) {
+    const double expected = analyticVolumes().at(part.solid->product) * kMm3;
+    EXPECT_NEAR(part.solid->volume, expected, 1e-6 * expected) << name;
+  }
+}
+
+TEST_F(StepImport, MeshIsClosedAndAgreesWithTheBrep) {
+  for (const auto& [name, part] : instances(bracket())) {
+    const CadSolid& s = *part.solid;
+    vaw::TriMesh mesh = s.mesh;
+    vaw::weldVertices(mesh, 1e-9);
+    const vaw::MeshCheck check = vaw::checkMesh(mesh);
+    EXPECT_TRUE(check.valid()) << name << ": " << check.summary();
+    std::size_t covered = 0;
+    for (const auto& f : s.faces) {
+      EXPECT_EQ(f.firstTriangle, covered) << name;
+      covered += f.triangleCount;
+    }
+    EXPECT_EQ(covered, s.mesh.triangleCount()) << name;
+    EXPECT_GT(s.deflection, 0.0);
+    const vaw::VolumeIntegrals mi = vaw::integrateVolume(mesh);
+    // The tessellation is inside the true surface by at most the deflection: close, not equal.
+    EXPECT_NEAR(mi.volume, s.volume, 0.02 * s.volume) << name;
+    EXPECT_NEAR(mi.surfaceArea, s.surfaceArea, 0.02 * s.surfaceArea) << name;
+    EXPECT_LT((mi.centroid - s.centroid).norm(), 1e-4) << name;
+    // Same convention as vaw's own integrals (products of inertia included).
+    EXPECT_LT((mi.inertiaUnitDensity - s.inertiaUnitDensity).norm(), 0.03 * s.inertiaUnitDensity.norm()) << name;
+  }
+}
+
+TEST_F(StepImport, FacesAreRecognised) {
+  const auto parts = instances(bracket());
+  const FaceCount stud = countFaces(*parts.at("stud-1").solid);
+  EXPECT_EQ(stud.planes, 2);
+  EXPECT_EQ(stud.other, 0);
+  ASSERT_EQ(stud.cylinders.size(), 1u);
+  EXPECT_TRUE(stud.cylinders[0]->convex);
+  EXPECT_NEAR(stud.cylinders[0]->radius, 0.006, 1e-12);
+  EXPECT_NEAR(std::abs(stud.cylinders[0]->direction.z()), 1.0, 1e-12);
+  EXPECT_NEAR(stud.cylinders[0]->axialMax - stud.cylinders[0]->axialMin, 0.034, 1e-9);
+  EXPECT_NEAR(stud.cylinders[0]->area, 2 * kPi * 6 * 34 * 1e-6, 1e-12);
+
+  const FaceCount plate = countFaces(*parts.at("base-plate").solid);
+  EXPECT_EQ(plate.cylinders.size(), 3u);
+  for (const CadFace* c : plate.cylinders) {
+    EXPECT_FALSE(c->convex) << "a drilled hole is concave";
+    EXPECT_NEAR(c->axialMax - c->axialMin, 0.008, 1e-9);
+  }
+  // Plane normals point out of the material: the plate's top face up, its bottom face down.
+  int up = 0, down = 0;
+  for (const auto& f : parts.at("base-plate").solid->faces) {
+    if (f.surface != CadFace::Surface::Plane) continue;
+    if (std::abs(f.point.z() - 0.010) < 1e-12 && f.direction.z() > 0.999) ++up;
+    if (std::abs(f.point.z()) < 1e-12 && f.direction.z() < -0.999) ++down;
+  }
+  EXPECT_EQ(up, 1);
+  EXPECT_EQ(down, 1);
+}
+
+TEST_F(StepImport, ColoursComeFromTheFile) {
+  const auto parts = instances(bracket());
+  ASSERT_TRUE(parts.at("base-plate").solid->color.has_value());
+  EXPECT_TRUE(parts.at("base-plate").solid->color->isApprox(Eigen::Vector3f(0.6f, 0.6f, 0.62f), 1e-3f));
+  ASSERT_TRUE(parts.at("bracket").solid->color.has_value());
+  EXPECT_TRUE(parts.at("bracket").solid->color->isApprox(Eigen::Vector3f(0.2f, 0.35f, 0.8f), 1e-3f));
+}
+
+TEST_F(StepImport, BsplineFacesKeepVolumesAndAreRecognised) {
+  vaw::steptest::writeBoltedBracket(file("bspline.stp"), {.bsplineFaces = true});
+  const ImportedMesh m = load(file("bspline.stp"));
+  const auto parts = instances(m);
+  ASSERT_EQ(parts.size(), 8u);
+  for (const auto& [name, part] : parts) {
+    const double expected = analyticVolumes().at(part.solid->product) * kMm3;
+    EXPECT_NEAR(part.solid->volume, expected, 1e-6 * expected) << name;
+  }
+  const FaceCount stud = countFaces(*parts.at("stud-1").solid);
+  EXPECT_EQ(stud.planes, 2);
+  EXPECT_EQ(stud.fromSpline, 3);
+  ASSERT_EQ(stud.cylinders.size(), 1u);
+  EXPECT_TRUE(stud.cylinders[0]->convex);
+  EXPECT_NEAR(stud.cylinders[0]->radius, 0.006, 1e-9);
+  EXPECT_NEAR(stud.cylinders[0]->axialMax - stud.cylinders[0]->axialMin, 0.034, 1e-7);
+
+  const FaceCount nut = countFaces(*parts.at("nut-1").solid);
+  EXPECT_EQ(nut.planes, 2);
+  EXPECT_EQ(nut.other, 0);
+  ASSERT_EQ(nut.cylinders.size(), 2u);
+  const CadFace* outer = nut.cylinders[0]->radius > nut.cylinders[1]->radius ? nut.cylinders[0] : nut.cylinders[1];
+  const CadFace* inner = outer == nut.cylinders[0] ? nut.cylinders[1] : nut.cylinders[0];
+  EXPECT_TRUE(outer->convex);
+  EXPECT_NEAR(outer->radius, 0.010, 1e-9);
+  EXPECT_FALSE(inner->convex);
+  EXPECT_NEAR(inner->radius, 0.006, 1e-9);
+  // The axis where the analytic file has it.
+  const Eigen::Vector3d d = inner->direction;
+  const Eigen::Vector3d offAxis = inner->point - inner->point.dot(d) * d;
+  EXPECT_LT(offAxis.norm(), 1e-9);
+  EXPECT_NEAR(std::abs(d.z()), 1.0, 1e-9);
+}
+
+TEST_F(StepImport, InchFileGivesTheSameMetres) {
+  vaw::steptest::writeBoltedBracket(file("inch.stp"), {.inches = true});
+  const ImportedMesh m = load(file("inch.stp"));
+  ASSERT_TRUE(m.declaredUnit.has_value());
+  EXPECT_EQ(*m.declaredUnit, "inch");
+  const auto mm = instances(bracket());
+  const auto inch = instances(m);
+  ASSERT_EQ(inch.size(), mm.size());
+  for (const auto& [name, a] : mm) {
+    const Instance& b = inch.at(name);
+    EXPECT_NEAR(b.solid->volume, a.solid->volume, 1e-9 * a.solid->volume) << name;
+    // 1e-9 of the part's size, as a centroid may be near 0.
+    EXPECT_LT((b.solid->centroid - a.solid->centroid).norm(), 1e-9 * 0.15) << name;
+    EXPECT_LT((b.world.translation() - a.world.translation()).norm(), 1e-9 * 0.15) << name;
+    EXPECT_NEAR(b.solid->inertiaUnitDensity.norm(), a.solid->inertiaUnitDensity.norm(), 1e-9 * a.solid->inertiaUnitDensity.norm())
+        << name;
+  }
+}
+
+TEST_F(StepImport, AllThreeSchemasLoad) {
+  for (const std::string schema : {"AP203", "AP214", "AP242"}) {
+    const fs::path f = file("schema-" + schema + ".stp");
+    vaw::steptest::writeBoltedBracket(f, {.schema = schema});
+    const ImportedMesh m = load(f);
+    EXPECT_EQ(m.format, "STEP " + schema);
+    const auto parts = instances(m);
+    EXPECT_EQ(parts.size(), 8u) << schema;
+    for (const auto& [name, part] : parts) {
+      const double expected = analyticVolumes().at(part.solid->product) * kMm3;
+      EXPECT_NEAR(part.solid->volume, expected, 1e-6 * expected) << schema << " " << name;
+    }
+  }
+}
+
+TEST_F(StepImport, WireframeAndEmptyProductsAreSkippedWithAWarning) {
+  vaw::steptest::writeBoltedBracket(file("wire.stp"), {.wireframeBeside = true});
+  const ImportedMesh m = load(file("wire.stp"));
+  EXPECT_EQ(instances(m).size(), 8u);
+  EXPECT_EQ(child(m.root, "construction-lines"), nullptr);
+  EXPECT_EQ(child(m.root, "empty-rep"), nullptr);
+  std::string all;
+  for (const auto& w : m.warnings) all += w + "\n";
+  EXPECT_NE(all.find("\"construction-lines\": skipped, no solid"), std::string::npos) << all;
+  EXPECT_NE(all.find("\"empty-rep\""), std::string::npos) << all;
+}
+
+TEST_F(StepImport, EdgeTouchingBoxesLoad) {
+  vaw::steptest::writeEdgeTouchingBoxes(file("edge.stp"));
+  const auto parts = instances(load(file("edge.stp")));
+  ASSERT_EQ(parts.size(), 2u);
+  EXPECT_NEAR(parts.at("box-a").solid->volume, 8e-6, 1e-15);
+  EXPECT_NEAR((parts.at("box-b").world.translation() - parts.at("box-a").world.translation()).norm(), 0.02 * std::sqrt(2.0),
+              1e-12);
+}
+
+TEST_F(StepImport, ProgressIsReported) {
+  std::vector<std::pair<double, std::string>> seen;
+  (void)load(file("bracket.stp"), {}, [&](double f, const std::string& stage) {
+    seen.emplace_back(f, stage);
+    return true;
+  });
+  ASSERT_FALSE(seen.empty());
+  bool tessellatingBracket = false;
+  for (std::size_t i = 0; i < seen.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GE(seen[i].first, seen[i - 1].first);
+    }
+    tessellatingBracket = tessellatingBracket || seen[i].second == "tessellating bracket";
+  }
+  EXPECT_TRUE(tessellatingBracket);
+  EXPECT_DOUBLE_EQ(seen.back().first, 1.0);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Bad input: always an InputError naming the file, never a crash.
+
+std::string readAll(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void expectInputError(const fs::path& f, const std::string& says, const vaw::ImportOptions& options = {}) {
+  try {
+    (void)load(f, options);
+    ADD_FAILURE() << f << " loaded";
+  } catch (const vaw::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(f.string()), std::string::npos) << what;
+    EXPECT_EQ(e.diagnostic().file, f.string());
+    EXPECT_NE(what.find(says), std::string::npos) << what;
+  }
+}
+
+TEST_F(StepImport, MissingFile) { expectInputError(file("no-such-file.stp"), "no such file"); }
+
+TEST_F(StepImport, TextFileThatIsNotStep) {
+  expectInputError(vaw::test::writeFile(file("notes.stp"), "just some notes\nnot a model\n"), "not a STEP file");
+}
+
+TEST_F(StepImport, TruncatedInTheDataSection) {
+  const std::string text = readAll(file("bracket.stp"));
+  const std::size_t data = text.find("DATA;");
+  ASSERT_NE(data, std::string::npos);
+  const fs::path f = vaw::test::writeFile(file("truncated.stp"), text.substr(0, data + (text.size() - data) / 2));
+  expectInputError(f, "truncated");
+}
+
+TEST_F(StepImport, Ifc4SchemaIsRefusedByName) {
+  std::string text = readAll(file("bracket.stp"));
+  const std::size_t at = text.find("FILE_SCHEMA");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, text.find(';', at) - at, "FILE_SCHEMA(('IFC4'))");
+  expectInputError(vaw::test::writeFile(file("ifc4.stp"), text), "unsupported schema \"IFC4\"");
+}
+
+// Valid Part 21 (a comment between "#12" and "="), yet Open CASCADE 7.6.3 dies on it with SIGSEGV: the
+// crash stays in the reader process and comes back as an error naming the file.
+TEST_F(StepImport, ReaderCrashBecomesAnError) {
+  std::string text = readAll(file("bracket.stp"));
+  const std::size_t at = text.find("\n#12 = ");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 7, "\n#12 /* a comment */ = ");
+  const fs::path f = vaw::test::writeFile(file("comment.stp"), text);
+  try {
+    // A later Open CASCADE may read it; then it must read it right.
+    EXPECT_EQ(instances(load(f)).size(), 8u);
+  } catch (const vaw::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find(f.string()), std::string::npos) << what;
+    EXPECT_NE(what.find("the reader crashed (signal 11, SIGSEGV)"), std::string::npos) << what;
+  }
+}
+
+TEST_F(StepImport, CancelStopsQuickly) {
+  for (const int stopAt : {1, 3}) {
+    int calls = 0;
+    const auto start = std::chrono::steady_clock::now();
+    EXPECT_THROW((void)load(file("bracket.stp"), {}, [&](double, const std::string&) { return ++calls < stopAt; }),
+                 vaw::LoadCancelled);
+    EXPECT_EQ(calls, stopAt);
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
+  }
+}
+
+TEST_F(StepImport, TimeLimitEndsASlowRead) {
+  // About 0.2 s to read here, four times the limit.
+  vaw::steptest::writeManyParts(file("many.stp"), 1000);
+  vaw::ImportOptions options;
+  options.timeoutSeconds = 0.05;
+  const auto start = std::chrono::steady_clock::now();
+  expectInputError(file("many.stp"), "still reading after 0.05 s", options);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 2.0);
+}
+
+TEST_F(StepImport, ManyPartsLoadWithinTheDefaultLimit) {
+  vaw::steptest::writeManyParts(file("many-ok.stp"), 60);
+  const auto parts = instances(load(file("many-ok.stp")));
+  EXPECT_EQ(parts.size(), 60u);
+}
+
+// With every build plugin loaded, a .stp file must go to this plugin, not to assimp's IFC reader.
+TEST(StepRegistry, RegistryPicksStepForStepFiles) {
+  vaw::ImporterRegistry registry;
+  const auto problems = registry.loadPlugins(VAW_BUILD_PLUGIN_DIR);
+  EXPECT_TRUE(problems.empty()) << problems.front();
+  for (const char* f : {"a.stp", "a.STEP", "a.p21"}) {
+    const vaw::MeshImporter* imp = registry.find(f);
+    ASSERT_NE(imp, nullptr) << f;
+    EXPECT_EQ(imp->name(), "Open CASCADE STEP") << f;
+  }
+}
+
+}  // namespace
