@@ -120,8 +120,9 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
   }
   for (const auto& f : fits) {
     const vaw::Constraint& c = a.constraints[f.constraint];
-    std::printf("constraint %s (%s onto %s): %s\n", c.name.c_str(), a.parts[c.part].name.c_str(), partnerName(a, c).c_str(),
-                f.text.c_str());
+    // The partner is named when it is another part; onto the base is the paper's case.
+    const std::string who = a.parts[c.part].name + (c.partner ? " onto " + partnerName(a, c) : std::string());
+    std::printf("constraint %s (%s): %s\n", c.name.c_str(), who.c_str(), f.text.c_str());
     if (c.found)
       std::printf("%-18s found in the geometry: %s %.4f %s, clearance %.4f mm%s\n", "",
                   c.type == vaw::Constraint::Type::Insert ? "axial overlap" : "overlap",
@@ -136,10 +137,12 @@ struct InspectArgs {
   std::string file;
   bool json = false;
   std::string categories = "default";
+  double deflection = vaw::ImportOptions{}.relativeDeflection;
 };
 
 int inspect(const InspectArgs& args) {
   vaw::LoadOptions options;
+  options.import.relativeDeflection = args.deflection;
   if (!vaw::CategorySettings::byName(args.categories, options.categories)) return 2;  // the parser allows known names only
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
@@ -213,6 +216,10 @@ int dispatch(int argc, char** argv) {
   inspectCmd->add_flag("--json", ins.json, "Print JSON instead of a table");
   inspectCmd->add_option("--categories", ins.categories, "Lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)")
       ->check(CLI::IsMember({"default", "stricter"}));
+  inspectCmd
+      ->add_option("--deflection", ins.deflection,
+                   "STEP files: the tessellation's chordal deflection as a fraction of each part's size (default 0.001)")
+      ->check(CLI::Range(1e-5, 0.1));
   inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
 
   bool dot = false;

@@ -94,14 +94,12 @@ std::vector<WorldFace> worldFaces(const RecognitionPart& p, CadFace::Surface kin
   return out;
 }
 
-bool boxesNear(const RecognitionPart& a, const RecognitionPart& b, double margin) {
-  if (!a.solid || !b.solid || a.solid->mesh.vertices.empty() || b.solid->mesh.vertices.empty()) return false;
-  Eigen::AlignedBox3d ba, bb;
-  for (const auto& v : a.solid->mesh.vertices) ba.extend(a.pose * v);
-  for (const auto& v : b.solid->mesh.vertices) bb.extend(b.pose * v);
-  ba.min().array() -= margin;
-  ba.max().array() += margin;
-  return ba.intersects(bb);
+// World bounds at the assembled pose (empty for a part without a solid).
+Eigen::AlignedBox3d worldBox(const RecognitionPart& p) {
+  Eigen::AlignedBox3d b;
+  if (p.solid)
+    for (const auto& v : p.solid->mesh.vertices) b.extend(p.pose * v);
+  return b;
 }
 
 }  // namespace
@@ -125,11 +123,18 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
 
 std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol) {
   std::vector<FoundConstraint> out;
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const auto& p : parts) boxes.push_back(worldBox(p));
+  const double margin = tol.distance + tol.maxClearance;
   for (std::size_t i = 0; i < parts.size(); ++i) {
     for (std::size_t j = i + 1; j < parts.size(); ++j) {
       const RecognitionPart& A = parts[i];
       const RecognitionPart& B = parts[j];
-      if (!boxesNear(A, B, tol.distance + tol.maxClearance)) continue;
+      if (boxes[i].isEmpty() || boxes[j].isEmpty()) continue;
+      Eigen::AlignedBox3d grown = boxes[i];
+      grown.min().array() -= margin;
+      grown.max().array() += margin;
+      if (!grown.intersects(boxes[j])) continue;
 
       // Inserts: a convex cylinder inside a concave one on (nearly) the same axis, overlapping along it.
       const auto cylA = worldFaces(A, CadFace::Surface::Cylinder), cylB = worldFaces(B, CadFace::Surface::Cylinder);

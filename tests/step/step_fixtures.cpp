@@ -180,7 +180,7 @@ void writeBoltedBracket(const std::filesystem::path& file, const FixtureOptions&
   w.write(file, options.schema, options.inches);
 }
 
-void writeManyParts(const std::filesystem::path& file, int count) {
+void writeManyParts(const std::filesystem::path& file, int count, bool distinctProducts) {
   if (count < 1) throw std::invalid_argument("step fixtures: writeManyParts needs count >= 1");
   Writer w;
   const TDF_Label root = w.assembly("many-parts");
@@ -189,15 +189,29 @@ void writeManyParts(const std::filesystem::path& file, int count) {
   const double pitch = 30.0;
   const double width = pitch * columns + 20, depth = pitch * std::max(1, (others + columns - 1) / columns) + 20;
   const TDF_Label plate = w.product("base-plate", box(0, 0, 0, width, depth, 10), {0.6, 0.6, 0.62});
-  const TDF_Label kinds[4] = {w.product("stud-m12", cylinder(0, 0, 0, 6, 34), {0.75, 0.75, 0.7}),
-                              w.product("nut-m12", tube(6, 10, 8), {0.8, 0.65, 0.2}), w.product("pin", cylinder(0, 0, 0, 5, 30)),
-                              w.product("sleeve", tube(5.2, 9, 15))};
+  // A product no instance uses would be a root of its own: the shared ones are made only when shared.
+  TDF_Label kinds[4];
+  if (!distinctProducts) {
+    kinds[0] = w.product("stud-m12", cylinder(0, 0, 0, 6, 34), {0.75, 0.75, 0.7});
+    kinds[1] = w.product("nut-m12", tube(6, 10, 8), {0.8, 0.65, 0.2});
+    kinds[2] = w.product("pin", cylinder(0, 0, 0, 5, 30));
+    kinds[3] = w.product("sleeve", tube(5.2, 9, 15));
+  }
   const char* names[4] = {"stud", "nut", "pin", "sleeve"};
   w.instance(root, plate, "base-plate", at(0, 0, -10));
   for (int i = 0; i < others; ++i) {
     const int k = i % 4;
     const std::string name = std::string(names[k]) + "-" + std::to_string(i / 4 + 1);
-    w.instance(root, kinds[k], name.c_str(), at(20 + pitch * (i % columns), 20 + pitch * (i / columns), 0));
+    // Distinct products (each its own radius, so each is tessellated and measured) cost what a real
+    // assembly of that many different parts costs; shared ones only what the instances add.
+    const double r = 5.0 + 0.01 * i;
+    const TDF_Label product =
+        !distinctProducts ? kinds[k]
+        : k == 0          ? w.product(name.c_str(), cylinder(0, 0, 0, r, 34))
+        : k == 1          ? w.product(name.c_str(), tube(r, r + 4, 8))
+        : k == 2          ? w.product(name.c_str(), cylinder(0, 0, 0, r, 30))
+                          : w.product(name.c_str(), tube(r, r + 3.8, 15));
+    w.instance(root, product, name.c_str(), at(20 + pitch * (i % columns), 20 + pitch * (i / columns), 0));
   }
   w.write(file, "AP214", false);
 }

@@ -16,8 +16,9 @@ struct FixtureOptions {
 // The bolted bracket: plate, bracket, two studs, two nuts and a pin assembly (pin and sleeve), 8 part
 // instances under the root "bolted-bracket" (tests/step/step_fixtures.cpp has the exact geometry).
 void writeBoltedBracket(const std::filesystem::path& file, const FixtureOptions& options = {});
-// `count` instances in all (a base plate with studs, nuts, pins and sleeves in a grid), for benchmarks.
-void writeManyParts(const std::filesystem::path& file, int count);
+// `count` instances in all (a base plate with studs, nuts, pins and sleeves in a grid), for benchmarks:
+// four shared products, or with `distinctProducts` a product of its own for every part.
+void writeManyParts(const std::filesystem::path& file, int count, bool distinctProducts = false);
 // Two boxes 20 mm cubes that touch only along one edge (a pair that must give no constraint).
 void writeEdgeTouchingBoxes(const std::filesystem::path& file);
 

@@ -1,0 +1,88 @@
+// How long a STEP assembly takes to be ready to assemble (docs/benchmarks.md, "STEP import"): the reader
+// process (parse, transfer, tessellation, B-rep mass properties), the whole load (that plus welding,
+// checks, constraint recognition and the layout), that plus the collision geometry the world runs on,
+// and recognition alone; for the bundled sample and for
+// 100-part assemblies the fixtures write (shared products, and every part a product of its own).
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "step_fixtures.hpp"
+#include "vaw/cad_assembly.hpp"
+#include "vaw/constraint_recognition.hpp"
+#include "vaw/scene_loader.hpp"
+#include "vaw/sim/scene.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const vaw::ImporterRegistry& registry() {
+  static vaw::ImporterRegistry r;
+  static const bool loaded = [] {
+    (void)r.loadPlugins(VAW_BUILD_PLUGIN_DIR);
+    return true;
+  }();
+  (void)loaded;
+  return r;
+}
+
+fs::path sample() { return fs::path(VAW_BUILD_RESOURCE_DIR) / "step" / "bolted-bracket.stp"; }
+
+fs::path manyParts(bool distinct) {
+  const fs::path f = fs::temp_directory_path() / (distinct ? "vaw-bench-100-products.stp" : "vaw-bench-100-parts.stp");
+  if (!fs::exists(f)) vaw::steptest::writeManyParts(f, 100, distinct);
+  return f;
+}
+
+// 0: the bundled sample; 1: 100 parts, instances of 5 products; 2: 100 parts, each its own product.
+fs::path fileFor(int which) { return which == 0 ? sample() : manyParts(which == 2); }
+
+void BM_StepReader(benchmark::State& state) {
+  const fs::path file = fileFor(static_cast<int>(state.range(0)));
+  const vaw::MeshImporter* importer = registry().find(file);
+  if (importer == nullptr) {
+    state.SkipWithError("no STEP plugin");
+    return;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(importer->read(file, {}, {}));
+  state.SetLabel(file.filename().string());
+}
+
+void BM_StepReadyToAssemble(benchmark::State& state) {
+  const fs::path file = fileFor(static_cast<int>(state.range(0)));
+  std::size_t parts = 0, constraints = 0, triangles = 0;
+  for (auto _ : state) {
+    const vaw::Assembly a = vaw::loadAny(file, registry());
+    parts = a.parts.size();
+    constraints = a.constraints.size();
+    triangles = a.totalTriangles();
+  }
+  state.counters["parts"] = static_cast<double>(parts);
+  state.counters["constraints"] = static_cast<double>(constraints);
+  state.counters["triangles"] = static_cast<double>(triangles);
+  state.SetLabel(file.filename().string());
+}
+
+// What the window waits for: the assembly and its collision geometry (the scene the world runs on).
+void BM_StepSceneBuilt(benchmark::State& state) {
+  const fs::path file = fileFor(static_cast<int>(state.range(0)));
+  for (auto _ : state) benchmark::DoNotOptimize(vaw::sim::Scene::build(vaw::loadAny(file, registry())));
+  state.SetLabel(file.filename().string());
+}
+
+void BM_Recognition(benchmark::State& state) {
+  const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
+  std::vector<vaw::RecognitionPart> parts;
+  for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose), p.mass.mass});
+  for (auto _ : state) benchmark::DoNotOptimize(vaw::recognizeConstraints(parts));
+  state.counters["parts"] = static_cast<double>(parts.size());
+}
+
+}  // namespace
+
+BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK_MAIN();
