@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <queue>
 
 #include "collision/geometry2d.hpp"
@@ -76,21 +78,23 @@ struct WorldFace {
   double axialMin = 0.0, axialMax = 0.0;
 };
 
+WorldFace worldFace(const RecognitionPart& p, std::size_t i) {
+  const CadFace& f = p.solid->faces[i];
+  WorldFace w;
+  w.face = &f;
+  w.index = i;
+  w.point = p.pose * f.point;
+  w.direction = (p.pose.linear() * f.direction).normalized();
+  w.axialMin = f.axialMin;
+  w.axialMax = f.axialMax;
+  return w;
+}
+
 std::vector<WorldFace> worldFaces(const RecognitionPart& p, CadFace::Surface kind) {
   std::vector<WorldFace> out;
   if (!p.solid) return out;
-  for (std::size_t i = 0; i < p.solid->faces.size(); ++i) {
-    const CadFace& f = p.solid->faces[i];
-    if (f.surface != kind) continue;
-    WorldFace w;
-    w.face = &f;
-    w.index = i;
-    w.point = p.pose * f.point;
-    w.direction = (p.pose.linear() * f.direction).normalized();
-    w.axialMin = f.axialMin;
-    w.axialMax = f.axialMax;
-    out.push_back(w);
-  }
+  for (std::size_t i = 0; i < p.solid->faces.size(); ++i)
+    if (p.solid->faces[i].surface == kind) out.push_back(worldFace(p, i));
   return out;
 }
 
@@ -100,6 +104,168 @@ Eigen::AlignedBox3d worldBox(const RecognitionPart& p) {
   if (p.solid)
     for (const auto& v : p.solid->mesh.vertices) b.extend(p.pose * v);
   return b;
+}
+
+// Why two faces are no constraint: the test that failed, what it measured (m, m^2 or rad) and the limit.
+// Kept as numbers so recognition, which tries every pair, never formats text.
+enum class Refusal {
+  None,
+  BothHoles,
+  BothShafts,
+  AxesAngle,
+  AxesApart,
+  Interference,
+  TooLoose,
+  NoAxialOverlap,
+  NotFacing,
+  SameWay,
+  PlanesApart,
+  NoArea
+};
+
+struct Verdict {
+  Refusal refusal = Refusal::None;
+  double value = 0.0, limit = 0.0;
+};
+
+// A convex cylinder inside a concave one on (nearly) the same axis, overlapping along it. On success `f`
+// holds the insert, a's face being `x`.
+Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTolerances& tol, FoundConstraint& f) {
+  if (x.face->convex == y.face->convex) return {x.face->convex ? Refusal::BothShafts : Refusal::BothHoles};
+  const WorldFace& shaft = x.face->convex ? x : y;
+  const WorldFace& bore = x.face->convex ? y : x;
+  const double sine = shaft.direction.cross(bore.direction).norm();
+  if (sine > tol.angle) return {Refusal::AxesAngle, std::atan2(sine, std::abs(shaft.direction.dot(bore.direction))), tol.angle};
+  const Eigen::Vector3d u = bore.direction;
+  const Eigen::Vector3d rel = shaft.point - bore.point;
+  const double offAxis = (rel - u * u.dot(rel)).norm();
+  if (offAxis > tol.distance) return {Refusal::AxesApart, offAxis, tol.distance};
+  const double clearance = bore.face->radius - shaft.face->radius;
+  // A press fit with interference is not read as an insert.
+  if (clearance < -tol.distance) return {Refusal::Interference, -clearance, tol.distance};
+  const double loosest = std::min(tol.maxClearance, tol.maxClearanceRel * bore.face->radius);
+  if (clearance > loosest) return {Refusal::TooLoose, clearance, loosest};
+  // Both faces' extents along the bore's axis, from the bore's axis point.
+  const double s = shaft.direction.dot(u) >= 0.0 ? 1.0 : -1.0;
+  const double shift = u.dot(rel);
+  double s0 = shift + s * shaft.axialMin, s1 = shift + s * shaft.axialMax;
+  if (s0 > s1) std::swap(s0, s1);
+  const double overlap = std::min(s1, bore.axialMax) - std::max(s0, bore.axialMin);
+  const double shorter = std::min(s1 - s0, bore.axialMax - bore.axialMin);
+  if (!(overlap > tol.minOverlapRel * shorter && overlap > tol.distance))
+    return {Refusal::NoAxialOverlap, overlap, std::max(tol.minOverlapRel * shorter, tol.distance)};
+  f = FoundConstraint{};
+  f.type = Constraint::Type::Insert;
+  f.point = bore.point;
+  f.direction = u;
+  f.found.partRadius = x.face->radius;
+  f.found.partnerRadius = y.face->radius;
+  f.found.clearance = std::max(0.0, clearance);
+  f.found.overlap = overlap;
+  f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
+  return {};
+}
+
+// Opposed normals, one plane, and a common area that is more than an edge. On success `f` holds the mate,
+// its direction x's outward normal.
+Verdict testMate(const RecognitionPart& A, const WorldFace& x, const RecognitionPart& B, const WorldFace& y,
+                 const RecognitionTolerances& tol, FoundConstraint& f) {
+  const double cosine = x.direction.dot(y.direction);
+  if (cosine > -1.0 + 0.5 * tol.angle * tol.angle) {
+    if (cosine > 1.0 - 0.5 * tol.angle * tol.angle) return {Refusal::SameWay, 0.0, tol.angle};
+    return {Refusal::NotFacing, std::acos(std::clamp(-cosine, -1.0, 1.0)), tol.angle};
+  }
+  const double gap = std::abs(x.direction.dot(y.point - x.point));
+  if (gap > tol.distance) return {Refusal::PlanesApart, gap, tol.distance};
+  const double area = coplanarOverlapArea(*A.solid, *x.face, A.pose, *B.solid, *y.face, B.pose);
+  const double smaller = std::min(x.face->area, y.face->area);
+  if (!(area > tol.minOverlapRel * smaller)) return {Refusal::NoArea, area, tol.minOverlapRel * smaller};
+  f = FoundConstraint{};
+  f.type = Constraint::Type::Mate;
+  f.point = x.point;
+  f.direction = x.direction;
+  f.found.overlap = area;
+  f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
+  return {};
+}
+
+FoundConstraint between(FoundConstraint f, std::size_t a, std::size_t b, const WorldFace& x, const WorldFace& y) {
+  f.a = a;
+  f.b = b;
+  f.faceA = x.index;
+  f.faceB = y.index;
+  return f;
+}
+
+// A length or an angle as a person reads it: one decimal, more where that would round a refusal to zero.
+std::string number(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, std::abs(value) >= 0.1 ? "%.1f" : "%.3f", value);
+  return text;
+}
+std::string mm(double metres) { return number(metres * 1000.0) + " mm"; }
+std::string degrees(double radians) { return number(radians * 180.0 / std::numbers::pi) + " deg"; }
+
+std::string describe(const Verdict& v) {
+  switch (v.refusal) {
+    case Refusal::None: return {};
+    case Refusal::BothHoles: return "both are holes";
+    case Refusal::BothShafts: return "both are shafts";
+    case Refusal::AxesAngle: return "the axes are " + degrees(v.value) + " apart";
+    case Refusal::AxesApart: return "the axes are " + mm(v.value) + " apart";
+    case Refusal::Interference: return "the shaft is " + mm(v.value) + " larger in radius than the bore";
+    case Refusal::TooLoose:
+      return "the bore is " + mm(v.value) + " larger in radius than the shaft: more play than " + mm(v.limit);
+    case Refusal::NoAxialOverlap:
+      if (v.value > 0.0) return "the faces overlap by only " + mm(v.value) + " along the axis";
+      return "the faces do not overlap along the axis" + (v.value < 0.0 ? " (" + mm(-v.value) + " between them)" : "");
+    case Refusal::NotFacing: return "the planes are " + degrees(v.value) + " from facing each other";
+    case Refusal::SameWay: return "the planes face the same way";
+    case Refusal::PlanesApart: return "the planes are " + mm(v.value) + " apart";
+    case Refusal::NoArea:
+      if (v.value > 0.0) return "the faces share only " + number(v.value * 1e6) + " mm² (they meet at an edge)";
+      return "the faces share no area";
+  }
+  return {};
+}
+
+Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                  const Eigen::Vector3d& c) {
+  // Ericson, Real-Time Collision Detection 5.1.5: by the Voronoi region of the triangle p lies in.
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denominator = va + vb + vc;
+  if (denominator <= 0.0) return a;  // a degenerate triangle: its corner will do
+  return a + ab * (vb / denominator) + ac * (vc / denominator);
+}
+
+// Distance from p to a face's triangles; infinite for a face without any.
+double distanceToTriangles(const CadSolid& s, const CadFace& f, const Eigen::Vector3d& p) {
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < s.mesh.triangles.size(); ++t) {
+    const auto& tri = s.mesh.triangles[t];
+    const auto corner = [&](int k) -> const Eigen::Vector3d* {
+      const auto vi = static_cast<std::size_t>(tri[k]);
+      return vi < s.mesh.vertices.size() ? &s.mesh.vertices[vi] : nullptr;
+    };
+    const Eigen::Vector3d *a = corner(0), *b = corner(1), *c = corner(2);
+    if (a == nullptr || b == nullptr || c == nullptr) continue;
+    best = std::min(best, (p - closestOnTriangle(p, *a, *b, *c)).norm());
+  }
+  return best;
 }
 
 }  // namespace
@@ -136,79 +302,77 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
       grown.max().array() += margin;
       if (!grown.intersects(boxes[j])) continue;
 
-      // Inserts: a convex cylinder inside a concave one on (nearly) the same axis, overlapping along it.
+      FoundConstraint f;
       const auto cylA = worldFaces(A, CadFace::Surface::Cylinder), cylB = worldFaces(B, CadFace::Surface::Cylinder);
       for (const WorldFace& x : cylA)
-        for (const WorldFace& y : cylB) {
-          if (x.face->convex == y.face->convex) continue;
-          const WorldFace& shaft = x.face->convex ? x : y;
-          const WorldFace& bore = x.face->convex ? y : x;
-          if (shaft.direction.cross(bore.direction).norm() > tol.angle) continue;
-          const Eigen::Vector3d u = bore.direction;
-          const Eigen::Vector3d rel = shaft.point - bore.point;
-          if ((rel - u * u.dot(rel)).norm() > tol.distance) continue;
-          const double clearance = bore.face->radius - shaft.face->radius;
-          if (clearance < -tol.distance) continue;  // a press fit with interference is not read as an insert
-          if (clearance > std::min(tol.maxClearance, tol.maxClearanceRel * bore.face->radius)) continue;
-          // Both faces' extents along the bore's axis, from the bore's axis point.
-          const double s = shaft.direction.dot(u) >= 0.0 ? 1.0 : -1.0;
-          const double shift = u.dot(rel);
-          double s0 = shift + s * shaft.axialMin, s1 = shift + s * shaft.axialMax;
-          if (s0 > s1) std::swap(s0, s1);
-          const double overlap = std::min(s1, bore.axialMax) - std::max(s0, bore.axialMin);
-          const double shorter = std::min(s1 - s0, bore.axialMax - bore.axialMin);
-          if (!(overlap > tol.minOverlapRel * shorter && overlap > tol.distance)) continue;
-          FoundConstraint f;
-          f.type = Constraint::Type::Insert;
-          f.a = i;
-          f.b = j;
-          f.faceA = x.index;
-          f.faceB = y.index;
-          f.point = bore.point;
-          f.direction = u;
-          f.found.partRadius = x.face->radius;
-          f.found.partnerRadius = y.face->radius;
-          f.found.clearance = std::max(0.0, clearance);
-          f.found.overlap = overlap;
-          f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
-          out.push_back(f);
-        }
-
-      // Mates: opposed normals, one plane, and a common area that is more than an edge.
+        for (const WorldFace& y : cylB)
+          if (testInsert(x, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
       const auto plA = worldFaces(A, CadFace::Surface::Plane), plB = worldFaces(B, CadFace::Surface::Plane);
       for (const WorldFace& x : plA)
-        for (const WorldFace& y : plB) {
-          if (x.direction.dot(y.direction) > -1.0 + 0.5 * tol.angle * tol.angle) continue;
-          if (std::abs(x.direction.dot(y.point - x.point)) > tol.distance) continue;
-          const double area = coplanarOverlapArea(*A.solid, *x.face, A.pose, *B.solid, *y.face, B.pose);
-          const double smaller = std::min(x.face->area, y.face->area);
-          if (!(area > tol.minOverlapRel * smaller)) continue;
-          FoundConstraint f;
-          f.type = Constraint::Type::Mate;
-          f.a = i;
-          f.b = j;
-          f.faceA = x.index;
-          f.faceB = y.index;
-          f.point = x.point;
-          f.direction = x.direction;
-          f.found.overlap = area;
-          f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
-          out.push_back(f);
-        }
+        for (const WorldFace& y : plB)
+          if (testMate(A, x, B, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
     }
   }
   return out;
 }
 
-std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>& found, const std::vector<Part>& parts, PartId base,
-                                             const std::vector<Eigen::Isometry3d>& finalPoses) {
+std::optional<std::size_t> faceAt(const CadSolid& s, const Eigen::Vector3d& point, double tolerance) {
+  std::optional<std::size_t> best;
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < s.faces.size(); ++i) {
+    const CadFace& f = s.faces[i];
+    const double onMesh = distanceToTriangles(s, f, point);
+    double onSurface = onMesh;
+    if (f.surface == CadFace::Surface::Plane) {
+      onSurface = std::abs(f.direction.normalized().dot(point - f.point));
+    } else if (f.surface == CadFace::Surface::Cylinder) {
+      const Eigen::Vector3d u = f.direction.normalized(), rel = point - f.point;
+      const double t = u.dot(rel);
+      if (t < f.axialMin - tolerance || t > f.axialMax + tolerance) continue;
+      onSurface = std::abs((rel - u * t).norm() - f.radius);
+    }
+    if (!(onSurface <= tolerance)) continue;
+    // A plane or a cylinder goes on where its face ends: where the face has triangles the point must be near
+    // them, which also tells coplanar faces and the halves of a cylinder split at its seam apart.
+    if (f.triangleCount > 0 && !(onMesh <= tolerance)) continue;
+    const double score = onSurface + (f.triangleCount > 0 ? onMesh : 0.0);
+    if (score < bestScore) {
+      bestScore = score;
+      best = i;
+    }
+  }
+  return best;
+}
+
+FacePairResult constraintFromFaces(const std::vector<RecognitionPart>& parts, std::size_t a, std::size_t faceA, std::size_t b,
+                                   std::size_t faceB, const RecognitionTolerances& tol) {
+  if (a == b) return {std::nullopt, "both faces are on the same part"};
+  for (const auto& [part, face] : {std::pair{a, faceA}, std::pair{b, faceB}})
+    if (part >= parts.size() || !parts[part].solid || face >= parts[part].solid->faces.size())
+      return {std::nullopt, "a face that is not on the part's CAD solid"};
+  const WorldFace x = worldFace(parts[a], faceA), y = worldFace(parts[b], faceB);
+  const auto both = [&](CadFace::Surface kind) { return x.face->surface == kind && y.face->surface == kind; };
+  if (!both(CadFace::Surface::Cylinder) && !both(CadFace::Surface::Plane))
+    return {std::nullopt, "the two faces are not both cylinders or both planes"};
+  FoundConstraint f;
+  const Verdict v = both(CadFace::Surface::Cylinder) ? testInsert(x, y, tol, f) : testMate(parts[a], x, parts[b], y, tol, f);
+  if (v.refusal != Refusal::None) return {std::nullopt, describe(v)};
+  return {between(f, a, b, x, y), {}};
+}
+
+std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>& found, const std::vector<Part>& parts,
+                                             PartId base, const std::vector<Eigen::Isometry3d>& finalPoses,
+                                             const std::vector<std::pair<PartId, PartId>>& contacts) {
   const std::size_t n = parts.size();
   // Hops from the base over the contact graph: the base goes first, then what touches it, and so on.
   std::vector<std::vector<std::size_t>> next(n);
-  for (const FoundConstraint& f : found) {
-    next[f.a].push_back(f.b);
-    next[f.b].push_back(f.a);
-  }
+  const auto touch = [&](std::size_t x, std::size_t y) {
+    next[x].push_back(y);
+    next[y].push_back(x);
+  };
+  for (const FoundConstraint& f : found) touch(f.a, f.b);
+  for (const auto& [x, y] : contacts)
+    if (x < n && y < n) touch(x, y);
   std::vector<std::size_t> hops(n, std::numeric_limits<std::size_t>::max());
   std::queue<std::size_t> q;
   hops[base] = 0;
@@ -252,7 +416,8 @@ std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>&
     c.part = part;
     if (partner != base) c.partner = partner;
     c.found = f.found;
-    if (!aFirst && f.type == Constraint::Type::Insert) std::swap(c.found->partRadius, c.found->partnerRadius);
+    // The found radii are face a's then face b's; when a is the partner, the part's is b's.
+    if (aFirst && f.type == Constraint::Type::Insert) std::swap(c.found->partRadius, c.found->partnerRadius);
     const std::string kind(name(f.type));
     c.name = kind + " " + parts[part].name + " on " + parts[partner].name + (count > 1 ? " " + std::to_string(count) : "");
     const Eigen::Vector3d comPart = finalPoses[part] * parts[part].mass.centerOfMass;

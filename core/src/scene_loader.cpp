@@ -333,14 +333,15 @@ class SceneReader {
     const MeshImporter* importer = importers_.find(cadFile);
     if (!importer) fileNode.failWith("a STEP file (the Open CASCADE plugin reads it)", "\"" + cadFile.extension().string() + "\" with no importer for it");
     LoadOptions opts = options_;
-    if (auto b = cad.opt("base")) opts.cadBase = b->string();
+    // A base chosen by the caller (re-basing a saved scene) wins over the one the scene saved.
+    if (auto b = cad.opt("base"); b && !options_.cadBase) opts.cadBase = b->string();
     ImportedMesh im = importer->read(cadFile, opts.import, progress_.sub(0.0, 0.7));
     if (!im.isCad()) fileNode.failWith("a CAD file with solids", "a mesh file");
     try {
       assembly_ = assemblyFromCad(std::move(im), cadFile, opts, progress_.sub(0.7, 0.9));
     } catch (const InputError& e) {
       // The base named in the scene is no part of the file any more: say where it was named.
-      if (e.diagnostic().field == "base" && cad.has("base")) cad.get("base").fail("the name of a part in " + cadFile.string());
+      if (e.diagnostic().field == "base" && cad.has("base") && !options_.cadBase) cad.get("base").fail("the name of a part in " + cadFile.string());
       throw;
     }
     assembly_.source = path_;
@@ -349,7 +350,9 @@ class SceneReader {
     static const detail::Json metres = "m";
     readUnits(root.has("units") ? root.get("units") : Node(metres, "units", file_));
     const std::string savedHash = cad.has("hash") ? cad.get("hash").string() : std::string();
-    if (auto cons = root.opt("constraints")) {
+    // The saved constraints are relative to the saved base: with another one they are found anew.
+    const bool rebased = options_.cadBase && (!cad.has("base") || cad.get("base").string() != *options_.cadBase);
+    if (auto cons = root.opt("constraints"); cons && !rebased) {
       if (savedHash == assembly_.cadHash) {
         assembly_.constraints.clear();
         readConstraints(*cons);
@@ -598,6 +601,24 @@ class SceneReader {
     return {n.get("point").position(units_.L), n.get("direction").direction()};
   }
 
+  // What recognition measured, kept with a saved CAD scene (lengths in the scene's unit, areas in its square).
+  Constraint::Found readFound(const Node& n, Constraint::Type type) {
+    n.requireObject();
+    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline"});
+    Constraint::Found f;
+    const double L = units_.L;
+    if (auto x = n.opt("part_radius")) f.partRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
+    if (auto x = n.opt("partner_radius")) f.partnerRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
+    if (auto x = n.opt("clearance")) f.clearance = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
+    if (auto x = n.opt("overlap"))
+      f.overlap = x->number(0.0, 1e12, "") * (type == Constraint::Type::Insert ? L : L * L);
+    if (auto x = n.opt("from_spline")) {
+      if (!x->json().is_boolean()) x->fail("true or false");
+      f.fromSpline = x->json().get<bool>();
+    }
+    return f;
+  }
+
   void readConstraints(const Node& list) {
     list.requireArray();
     for (std::size_t i = 0; i < list.size(); ++i) {
@@ -607,7 +628,7 @@ class SceneReader {
       const std::string type = typeNode.string();
       Constraint con;
       if (type == "mate" || type == "align") {
-        c.allowOnly({"type", "name", "part", "partner", "part_plane", "base_plane", "offset"});
+        c.allowOnly({"type", "name", "part", "partner", "part_plane", "base_plane", "offset", "accepted", "home_direction", "found"});
         con.type = type == "mate" ? Constraint::Type::Mate : Constraint::Type::Align;
         con.partPlane = readPlane(c.get("part_plane"));
         con.basePlane = readPlane(c.get("base_plane"));
@@ -616,7 +637,7 @@ class SceneReader {
           if (!(std::abs(con.offset) <= limits::kMaxCoordinate)) o->fail("an offset within the world bound of 1000 m");
         }
       } else if (type == "insert") {
-        c.allowOnly({"type", "name", "part", "partner", "part_axis", "base_axis"});
+        c.allowOnly({"type", "name", "part", "partner", "part_axis", "base_axis", "accepted", "home_direction", "found"});
         con.type = Constraint::Type::Insert;
         con.partAxis = readAxis(c.get("part_axis"));
         con.baseAxis = readAxis(c.get("base_axis"));
@@ -638,6 +659,14 @@ class SceneReader {
         if (*partner != *assembly_.base) con.partner = *partner;
       }
       con.name = c.has("name") ? c.get("name").string() : type + " " + partNode.string();
+      if (auto a = c.opt("accepted")) {
+        if (!a->json().is_boolean()) a->fail("true or false");
+        con.accepted = a->json().get<bool>();
+      }
+      // Off the partner's face for a plane; along the axis (one way or the other) unless the file says.
+      con.homeDirection = con.type == Constraint::Type::Insert ? con.baseAxis.direction : con.basePlane.normal;
+      if (auto h = c.opt("home_direction")) con.homeDirection = h->direction();
+      if (auto f = c.opt("found")) con.found = readFound(*f, con.type);
       checkAtFinalPose(con, c);
       assembly_.constraints.push_back(con);
     }

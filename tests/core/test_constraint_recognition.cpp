@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "vaw/cad_assembly.hpp"
 #include "vaw/constraint_recognition.hpp"
@@ -108,6 +109,90 @@ TEST(ConstraintRecognition, OffAxisLooseDisjointOrBothBoresAreNoInsert) {
   EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0), 1.0}, {cylinder(0.006, 0, 0.02, true, "s"), at(0.0005, 0.0005, 0.010), 1.0}}).empty());
   // Two bores on one axis (a hole in a plate under a hole in a bracket).
   EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0), 1.0}, {cylinder(0.006, 0, 0.02, false, "h"), at(0.0005, 0.0005, 0), 1.0}}).empty());
+}
+
+TEST(ConstraintRecognition, FaceAtPicksTheFaceUnderAPoint) {
+  // 1 % of the box's size, as the Constraints panel asks.
+  const auto b = box(0.040, 0.030, 0.010, "plate");
+  const double tol = 0.0005;
+  EXPECT_EQ(vaw::faceAt(*b, {0.020, 0.015, 0.010}, tol), std::optional<std::size_t>(1));  // top
+  EXPECT_EQ(vaw::faceAt(*b, {0.020, 0.015, 0.0102}, tol), std::optional<std::size_t>(1));
+  EXPECT_EQ(vaw::faceAt(*b, {0.020, 0.000, 0.005}, tol), std::optional<std::size_t>(2));  // -y side
+  EXPECT_EQ(vaw::faceAt(*b, {0.040, 0.010, 0.005}, tol), std::optional<std::size_t>(5));  // +x side
+  // Near an edge the face the point lies on wins over the one it is merely close to.
+  EXPECT_EQ(vaw::faceAt(*b, {0.0398, 0.010, 0.010}, tol), std::optional<std::size_t>(1));
+  // Inside the material, and on the top face's plane but past its edge: no face.
+  EXPECT_FALSE(vaw::faceAt(*b, {0.020, 0.015, 0.005}, tol));
+  EXPECT_FALSE(vaw::faceAt(*b, {0.060, 0.015, 0.010}, tol));
+
+  const double r = 0.006;
+  const auto c = cylinder(r, 0.0, 0.020, true, "stud");
+  EXPECT_EQ(vaw::faceAt(*c, {2 * r, r, 0.010}, tol), std::optional<std::size_t>(0));
+  EXPECT_EQ(vaw::faceAt(*c, {r + r * std::cos(1.0), r + r * std::sin(1.0), 0.0201}, tol), std::optional<std::size_t>(0));
+  EXPECT_FALSE(vaw::faceAt(*c, {r, r, 0.010}, tol));      // on the axis
+  EXPECT_FALSE(vaw::faceAt(*c, {2 * r, r, 0.025}, tol));  // past the face's end
+}
+
+TEST(ConstraintRecognition, TwoChosenCylindersAreTestedAsRecognitionTestsThem) {
+  const auto bore = cylinder(0.0065, 0.0, 0.008, false, "bracket");
+  const auto shaft = cylinder(0.006, 0.0, 0.034, true, "stud");
+  const std::vector<vaw::RecognitionPart> parts{{bore, at(0, 0, 0.008), 1.0}, {shaft, at(0.0005, 0.0005, -0.008), 0.1}};
+  // The shaft chosen first: it is face a, so the radii follow it.
+  const auto r = vaw::constraintFromFaces(parts, 1, 0, 0, 0);
+  ASSERT_TRUE(r.found.has_value()) << r.why;
+  EXPECT_TRUE(r.why.empty());
+  EXPECT_EQ(r.found->type, vaw::Constraint::Type::Insert);
+  EXPECT_EQ(r.found->a, 1u);
+  EXPECT_EQ(r.found->b, 0u);
+  EXPECT_NEAR(r.found->found.clearance, 0.0005, 1e-12);
+  EXPECT_NEAR(r.found->found.overlap, 0.008, 1e-12);
+  EXPECT_DOUBLE_EQ(r.found->found.partRadius, 0.006);
+  EXPECT_DOUBLE_EQ(r.found->found.partnerRadius, 0.0065);
+  // What recognition finds for the pair, the other way round.
+  const auto all = vaw::recognizeConstraints(parts);
+  ASSERT_EQ(all.size(), 1u);
+  EXPECT_EQ(all[0].found.overlap, r.found->found.overlap);
+  EXPECT_TRUE(all[0].point.isApprox(r.found->point));
+}
+
+TEST(ConstraintRecognition, TwoChosenFacesThatAreNoConstraintSayWhy) {
+  const auto bore = cylinder(0.0065, 0.0, 0.008, false, "bore");
+  const auto why = [](const std::shared_ptr<CadSolid>& x, const Eigen::Isometry3d& px, const std::shared_ptr<CadSolid>& y,
+                      const Eigen::Isometry3d& py, std::size_t fx = 0, std::size_t fy = 0) {
+    const auto r = vaw::constraintFromFaces({{x, px, 1.0}, {y, py, 1.0}}, 0, fx, 1, fy);
+    EXPECT_FALSE(r.found.has_value());
+    return r.why;
+  };
+  // 1.4 mm off the axis: 1 mm in x, 1 mm in y.
+  EXPECT_EQ(why(bore, at(0, 0, 0), cylinder(0.006, 0, 0.02, true, "s"), at(0.0015, 0.0015, 0)), "the axes are 1.4 mm apart");
+  Eigen::Isometry3d tilted = at(0.0005, 0.0005, 0);
+  tilted.linear() = Eigen::AngleAxisd(3.2 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  EXPECT_EQ(why(bore, at(0, 0, 0), cylinder(0.006, 0, 0.02, true, "s"), tilted), "the axes are 3.2 deg apart");
+  // A 17.5 mm shaft in a 20 mm bore: the play allowed is 2 mm (15 % of the bore's radius would be 3 mm).
+  EXPECT_EQ(why(cylinder(0.020, 0, 0.01, false, "b"), at(0, 0, 0), cylinder(0.0175, 0, 0.02, true, "s"), at(0.0025, 0.0025, 0)),
+            "the bore is 2.5 mm larger in radius than the shaft: more play than 2.0 mm");
+  EXPECT_EQ(why(bore, at(0, 0, 0), cylinder(0.006, 0, 0.02, false, "h"), at(0.0005, 0.0005, 0)), "both are holes");
+  EXPECT_EQ(why(bore, at(0, 0, 0), cylinder(0.006, 0, 0.02, true, "s"), at(0.0005, 0.0005, 0.010)),
+            "the faces do not overlap along the axis (2.0 mm between them)");
+
+  const auto plate = box(0.040, 0.040, 0.010, "plate"), cube = box(0.020, 0.020, 0.020, "cube");
+  // Both top faces (index 1).
+  EXPECT_EQ(why(plate, at(0, 0, 0), cube, at(0.01, 0.01, 0.010), 1, 1), "the planes face the same way");
+  // The cube's bottom (0) 4 mm above the plate's top (1).
+  EXPECT_EQ(why(plate, at(0, 0, 0), cube, at(0.01, 0.01, 0.014), 1, 0), "the planes are 4.0 mm apart");
+  // In one plane but side by side.
+  EXPECT_EQ(why(plate, at(0, 0, 0), cube, at(0.05, 0.01, 0.010), 1, 0), "the faces share no area");
+  EXPECT_EQ(why(plate, at(0, 0, 0), cube, at(0.01, 0.01, 0.010), 1, 2), "the planes are 90.0 deg from facing each other");
+  EXPECT_EQ(why(plate, at(0, 0, 0), cylinder(0.006, 0, 0.02, true, "s"), at(0.01, 0.01, 0.010), 1, 0),
+            "the two faces are not both cylinders or both planes");
+  EXPECT_EQ(why(plate, at(0, 0, 0), plate, at(0, 0, 0.010), 1, 1), "the planes face the same way");
+  // Face to face: a mate over the common area, a's normal its direction.
+  const auto r = vaw::constraintFromFaces({{plate, at(0, 0, 0), 1.0}, {cube, at(0.030, 0.010, 0.010), 0.1}}, 1, 0, 0, 1);
+  ASSERT_TRUE(r.found.has_value()) << r.why;
+  EXPECT_EQ(r.found->type, vaw::Constraint::Type::Mate);
+  EXPECT_NEAR(r.found->found.overlap, 0.010 * 0.020, 1e-15);
+  EXPECT_TRUE(r.found->direction.isApprox(-Eigen::Vector3d::UnitZ()));
+  EXPECT_EQ(vaw::constraintFromFaces({{plate, at(0, 0, 0), 1.0}}, 0, 1, 0, 0).why, "both faces are on the same part");
 }
 
 vaw::Part partOf(const std::shared_ptr<CadSolid>& s, vaw::PartId id, double mass) {

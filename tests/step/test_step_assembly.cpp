@@ -41,7 +41,14 @@ std::multiset<std::string> described(const Assembly& a) {
   for (const Constraint& c : a.constraints) {
     std::ostringstream s;
     s << name(c.type) << ' ' << a.parts[c.part].name << ' ' << partnerOf(a, c);
-    if (c.type == Constraint::Type::Insert) s << ' ' << std::lround(c.found->clearance * 1e6);
+    if (c.type == Constraint::Type::Insert) {
+      s << ' ' << std::lround(c.found->clearance * 1e6);
+      // The part's own radius first: the bracket's bore on a stud, the nut's bore on a stud, a stud in a hole.
+      EXPECT_NEAR(c.found->partnerRadius - c.found->partRadius, (c.found->partRadius > c.found->partnerRadius ? -1 : 1) * c.found->clearance, 1e-12);
+      const std::string part = a.parts[c.part].name;
+      const double own = part == "bracket" ? 0.0065 : part == "sleeve" ? 0.0052 : part == "pin" ? 0.005 : 0.006;
+      EXPECT_NEAR(c.found->partRadius, own, 1e-9) << c.name;
+    }
     out.insert(s.str());
   }
   return out;
@@ -169,6 +176,10 @@ TEST(StepAssembly, ASavedSceneReopensIdenticallyAndNoticesAChangedFile) {
   for (std::size_t i = 0; i < a.constraints.size(); ++i) {
     EXPECT_EQ(b.constraints[i].name, a.constraints[i].name);
     EXPECT_EQ(b.constraints[i].partner, a.constraints[i].partner);
+    EXPECT_LT((b.constraints[i].homeDirection - a.constraints[i].homeDirection).norm(), 1e-12);
+    ASSERT_TRUE(b.constraints[i].found.has_value());
+    EXPECT_EQ(b.constraints[i].found->clearance, a.constraints[i].found->clearance);
+    EXPECT_EQ(b.constraints[i].found->overlap, a.constraints[i].found->overlap);
     if (a.constraints[i].type == Constraint::Type::Insert) {
       EXPECT_LT((b.constraints[i].baseAxis.point - a.constraints[i].baseAxis.point).norm(), 1e-12);
       EXPECT_LT((b.constraints[i].partAxis.direction - a.constraints[i].partAxis.direction).norm(), 1e-12);

@@ -118,12 +118,57 @@ void AssemblyController::cancelLoad() {
   if (cancel_) cancel_->store(true);
 }
 
+void AssemblyController::openWithBase(const QString& path, const std::string& base) {
+  chosenBase_ = ChosenBase{QFileInfo(path).absoluteFilePath(), base};
+  open(path);
+}
+
+bool AssemblyController::setConstraints(std::vector<vaw::Constraint> constraints, const vaw::sim::World* keepTuningOf,
+                                        QString* why) {
+  if (!scene_) return false;
+  vaw::Assembly assembly = scene_->assembly();
+  assembly.constraints = std::move(constraints);
+  if (keepTuningOf != nullptr) {
+    const vaw::sim::Settings& s = keepTuningOf->settings();
+    assembly.settings.rate = s.rate;
+    assembly.settings.freeFlightScale = s.gravity.freeFlight;
+    assembly.settings.slideScale = s.gravity.slide;
+    assembly.settings.rotationScale = s.gravity.rotation;
+    assembly.settings.rotationMethod = std::string(vaw::dyn::name(s.rotationMethod));
+    for (auto& [name, material] : assembly.materials) {
+      const vaw::FrictionValues f = keepTuningOf->materialFriction(name);
+      material.staticFriction = f.staticFriction;
+      material.kineticFriction = f.kineticFriction;
+      material.rotationalFriction = f.rotationalFriction;
+    }
+    assembly.settings.partFriction.clear();
+    for (vaw::PartId id = 0; id < assembly.parts.size(); ++id)
+      if (const auto f = keepTuningOf->frictionOverride(id)) assembly.settings.partFriction[id] = *f;
+  }
+  // The warnings were reported when the file was read; the rebuild would only add the collision's again.
+  assembly.warnings.clear();
+  try {
+    scene_ = vaw::sim::Scene::build(std::move(assembly));
+  } catch (const std::exception& e) {
+    if (why != nullptr) *why = QString::fromUtf8(e.what());
+    return false;
+  }
+  session_.reset();
+  editReload_ = true;
+  emit assemblyLoaded();
+  editReload_ = false;
+  return true;
+}
+
 void AssemblyController::start(const QString& path) {
   loadingPath_ = path;
   cancel_ = std::make_shared<std::atomic<bool>>(false);
   emit loadStarted(path);
   auto cancel = cancel_;
-  watcher_.setFuture(QtConcurrent::run([this, path, loader = loader_, options = options_, cancel] {
+  vaw::LoadOptions options = options_;
+  if (chosenBase_ && chosenBase_->path == QFileInfo(path).absoluteFilePath()) options.cadBase = chosenBase_->base;
+  else chosenBase_.reset();
+  watcher_.setFuture(QtConcurrent::run([this, path, loader = loader_, options, cancel] {
     return runLoad(path, loader, options, cancel);
   }));
 }

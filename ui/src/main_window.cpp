@@ -35,6 +35,7 @@
 #include "vaw/sim/session.hpp"
 #include "vaw/version.hpp"
 #include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/load_feedback.hpp"
 #include "vaw/ui/message_log_model.hpp"
@@ -97,6 +98,14 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   addDockWidget(Qt::BottomDockWidgetArea, motionDock_);
   tabifyDockWidget(timelineDock_, messagesDock_);
   tabifyDockWidget(messagesDock_, motionDock_);
+  constraintsDock_ = new ConstraintsDock(controller_, *simulation_, *viewport_, *undoStack_, this);
+  addDockWidget(Qt::BottomDockWidgetArea, constraintsDock_);
+  tabifyDockWidget(motionDock_, constraintsDock_);
+  constraintsDock_->attachBaseMenu(sceneDock_);
+  // Re-basing reopens what File > Save writes (the CAD scene), or the CAD file itself.
+  connect(constraintsDock_, &ConstraintsDock::baseRequested, this, [this](const QString& part) {
+    if (maybeSave()) controller_.openWithBase(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, part.toStdString());
+  });
   timelineDock_->raise();
   resizeDocks({sceneDock_, partDock_}, {220, 480}, Qt::Vertical);
   resizeDocks({sceneDock_, controlsDock_}, {380, 330}, Qt::Horizontal);
@@ -341,6 +350,7 @@ void MainWindow::createMenus() {
   view->addAction(motionDock_->toggleViewAction());
   view->addAction(workPrecisionDock_->toggleViewAction());
   view->addAction(trialsDock_->toggleViewAction());
+  view->addAction(constraintsDock_->toggleViewAction());
 
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);
@@ -419,6 +429,8 @@ bool MainWindow::exportTimelineCsv(const QString& file) {
 
 void MainWindow::assemblyLoaded() {
   const vaw::Assembly* assembly = controller_.assembly();
+  const bool edited = controller_.isEditReload();  // its constraints changed: the same file, already announced
+  const bool wasPlaying = simulation_->isPlaying();
   const std::string keepName = selectedName_;
   const QString keepFrom = selectedFrom_;
   reloadAction_->setEnabled(true);
@@ -440,9 +452,14 @@ void MainWindow::assemblyLoaded() {
   if (assembly == nullptr) return;
   // After a reload, the part that was selected stays selected (by name: ids may change).
   if (!keepName.empty() && keepFrom == controller_.currentPath()) viewport_->selectPart(assembly->findPart(keepName));
-  scenePath_ = isSceneFile(controller_.currentPath()) ? controller_.currentPath() : QString();
+  if (!edited) scenePath_ = isSceneFile(controller_.currentPath()) ? controller_.currentPath() : QString();
   saveAction_->setEnabled(true);
   saveAsAction_->setEnabled(true);
+  if (edited) {
+    updateTitle();
+    if (wasPlaying) simulation_->play();
+    return;
+  }
   addRecent(controller_.currentPath());
   for (const auto& warning : assembly->warnings) messagesDock_->model()->add(warning);
   updateTitle();
@@ -467,7 +484,8 @@ void MainWindow::simulationStarted() {
   controlsDock_->showBaseTarget(simulation_->baseTarget());
   timelineDock_->model()->clear();
   motionStale_ = true;
-  undoStack_->clear();  // its edits were of the previous world
+  // Its edits were of the previous world; a constraint edit's new world keeps the tuning, and the history.
+  if (!controller_.isEditReload()) undoStack_->clear();
   logChanged();
   updateLive();
   updateTitle();

@@ -113,7 +113,8 @@ void PartPropertiesModel::updateLive(const vaw::sim::PartReport& r) {
   add(tr("Motion model"), format::str(r.modelName));
   add(tr("Method"), r.method.empty() ? tr("—") : format::str(r.method));
   add(tr("Constraint"), r.constraint.empty() ? tr("—") : format::str(r.constraint));
-  if (r.stability) {
+  // Only a part turning on its shaft has a swing whose stability means something.
+  if (r.stability && r.model == vaw::sim::Model::Cylindrical) {
     const bool warn = r.stability->level != vaw::sim::StabilityAdvice::Level::Stable;
     add(tr("Stability"), format::str(r.stability->text), format::str(r.stability->report.message), warn);
   }

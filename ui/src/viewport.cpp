@@ -179,7 +179,10 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
   drops_.clear();
   marks_.clear();
   axesShown_.reset();
+  constraintShown_.reset();
+  constraintSegments_.clear();
   delete sceneRoot_;
+  for (auto& line : constraintLines_) line = Overlay{};
   sceneRoot_ = new Qt3DCore::QEntity(root_);
   partsBounds_.setEmpty();
   allBounds_.setEmpty();
@@ -247,6 +250,8 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
     }
     const QColor axisColors[3] = {QColor(220, 50, 50), QColor(50, 190, 60), QColor(60, 90, 230)};
     for (int k = 0; k < 3; ++k) axes_[k] = makeOverlay(cylinder_, axisColors[k]);
+    // Magenta: no state tint, selection or axis colour uses it.
+    for (auto& line : constraintLines_) line = makeOverlay(cylinder_, QColor(225, 0, 200));
   }
   resetView();
   if (hadSelection) emit partSelected(std::nullopt);
@@ -357,7 +362,47 @@ void Viewport::applyFrame(const vaw::view::Frame& f) {
   } else {
     for (auto& a : axes_) hide(a);
   }
+  if (constraintShown_) {
+    placeConstraint();
+    updates += constraintSegments_.size();
+  }
   lastUpdates_ = updates;
+}
+
+void Viewport::showConstraintGeometry(const ConstraintGeometry& geometry) {
+  constraintShown_ = geometry;
+  placeConstraint();
+}
+
+void Viewport::hideConstraintGeometry() {
+  constraintShown_.reset();
+  placeConstraint();
+}
+
+void Viewport::placeConstraint() {
+  constraintSegments_.clear();
+  const ConstraintGeometry* g = constraintShown_ ? &*constraintShown_ : nullptr;
+  if (g != nullptr && g->partner < visualOfPart_.size() && visualOfPart_[g->partner]) {
+    const Eigen::Isometry3d& pose = parts_[*visualOfPart_[g->partner]].pose;
+    const Eigen::Vector3d c = pose * g->point;
+    const Eigen::Vector3d d = (pose.linear() * g->direction).normalized();
+    const double half = 0.5 * g->size;
+    if (g->kind == ConstraintGeometry::Kind::Axis) {
+      constraintSegments_.emplace_back(c - half * d, c + half * d);
+    } else {
+      // Two directions in the plane; which two does not matter, the square is symmetric.
+      const Eigen::Vector3d u = d.unitOrthogonal(), v = d.cross(u);
+      const Eigen::Vector3d corners[4] = {c + half * (u + v), c + half * (-u + v), c + half * (-u - v), c + half * (u - v)};
+      for (int k = 0; k < 4; ++k) constraintSegments_.emplace_back(corners[k], corners[(k + 1) % 4]);
+      constraintSegments_.emplace_back(c, c + half * d);
+    }
+  }
+  if (constraintLines_[0].entity == nullptr) return;  // no scene
+  const double r = lineRadius();
+  for (std::size_t k = 0; k < kConstraintLines; ++k) {
+    if (k < constraintSegments_.size()) placeLine(constraintLines_[k], constraintSegments_[k].first, constraintSegments_[k].second, 0.8 * r);
+    else hide(constraintLines_[k]);
+  }
 }
 
 void Viewport::showAxes(const std::optional<Axes>& axes) {
@@ -484,7 +529,24 @@ Eigen::Vector3d Viewport::handOnPlane(const QPointF& windowPos) const {
   return o + d * (planeNormal_.dot(planePoint_ - o) / denominator);
 }
 
-void Viewport::onClick(const QPoint& windowPos) { selectPart(partAt(windowPos)); }
+std::optional<Eigen::Isometry3d> Viewport::partPose(vaw::PartId part) const {
+  if (part >= visualOfPart_.size() || !visualOfPart_[part]) return std::nullopt;
+  return parts_[*visualOfPart_[part]].pose;
+}
+
+void Viewport::setPickingFaces(bool on) { pickingFaces_ = on; }
+
+void Viewport::onClick(const QPoint& windowPos) {
+  if (!pickingFaces_) {
+    selectPart(partAt(windowPos));
+    return;
+  }
+  // A miss (the table, the background) keeps the selection: the user is aiming, not clearing.
+  if (const auto p = pick(windowPos)) {
+    selectPart(p->part);
+    emit facePicked(p->part, p->point);
+  }
+}
 
 void Viewport::keyRates() {
   const auto held = [this](int key) { return keysDown_.contains(key) ? 1.0 : 0.0; };
@@ -511,6 +573,8 @@ bool Viewport::eventFilter(QObject* watched, QEvent* event) {
       dragged_ = false;
       candidate_.reset();
       if (mouse->button() != Qt::LeftButton || (mouse->modifiers() & (Qt::AltModifier | Qt::ShiftModifier))) break;
+      // Picking faces, a drag turns the view to reach the next face: nothing is grabbed.
+      if (pickingFaces_) break;
       // A press on a part that a hand can take starts a possible grab: the camera does not see it.
       if (auto p = pick(pressPos_); p && !parts_[*visualOfPart_[p->part]].base) {
         candidate_ = p;
@@ -586,6 +650,10 @@ bool Viewport::eventFilter(QObject* watched, QEvent* event) {
         return true;
       }
       if (press && key->key() == Qt::Key_Escape) {
+        if (pickingFaces_) {
+          emit facePickCancelled();
+          return true;
+        }
         selectPart(std::nullopt);
         return true;
       }

@@ -88,6 +88,7 @@ struct Constraint {
   // The direction the part comes home from, in the partner's frame: it travels along -homeDirection
   // into its final pose (along the axis for an insert, onto the plane for a mate).
   Eigen::Vector3d homeDirection = Eigen::Vector3d::UnitZ();
+  bool accepted = false;  // the user confirmed it (Constraints panel); saved with the scene
 };
 std::string_view name(Constraint::Type t);
 

@@ -5,7 +5,9 @@
 // exact surfaces a CAD importer reports (vaw/importer.hpp, CadFace), at the parts' assembled poses.
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vaw/assembly.hpp"
@@ -45,6 +47,25 @@ struct FoundConstraint {
 std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts,
                                                   const RecognitionTolerances& tol = {});
 
+// The face of `s` whose exact surface passes nearest `point` (the solid's frame, m), within `tolerance` (m):
+// a plane by the point's distance to it, a cylinder by its distance to the cylinder within the face's axial
+// extent (with `tolerance` of slack at the ends). Where a face has triangles the point must also be within
+// `tolerance` of them, since the surface goes on past the face's edges; a face of another kind is matched
+// by its triangles alone. None when no face is that near.
+std::optional<std::size_t> faceAt(const CadSolid& s, const Eigen::Vector3d& point, double tolerance);
+
+// What recognition makes of one chosen pair of faces: the constraint, or in a person's words why they are
+// none ("the axes are 1.4 mm apart").
+struct FacePairResult {
+  std::optional<FoundConstraint> found;
+  std::string why;
+};
+// Face `faceA` of part `a` and face `faceB` of part `b` (indices into `parts` and their solids' faces) put
+// through the tests recognizeConstraints applies, at the poses `parts` holds: two cylinders as an insert,
+// two planes as a mate. The found constraint's `a` is `a`.
+FacePairResult constraintFromFaces(const std::vector<RecognitionPart>& parts, std::size_t a, std::size_t faceA, std::size_t b,
+                                   std::size_t faceB, const RecognitionTolerances& tol = {});
+
 // The area common to two planar faces that lie in one plane (face A's triangles against face B's), m^2.
 double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b,
                            const CadFace& fb, const Eigen::Isometry3d& poseB);
@@ -53,8 +74,10 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
 // chosen by assembly order (docs/step.md: the part nearer the base in the contact graph is the partner;
 // on a tie, the one whose lowest point is lower, then the heavier), geometry in each one's frame, the
 // base as an empty partner, and the direction each part comes home from. `finalPoses` are the parts'
-// assembled poses, `lowest` their lowest world z there.
+// assembled poses, `lowest` their lowest world z there. `contacts` are further pairs of parts that touch
+// (the assembly's other constraints, when one pair is added to them), counted in the assembly order only.
 std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>& found, const std::vector<Part>& parts,
-                                             PartId base, const std::vector<Eigen::Isometry3d>& finalPoses);
+                                             PartId base, const std::vector<Eigen::Isometry3d>& finalPoses,
+                                             const std::vector<std::pair<PartId, PartId>>& contacts = {});
 
 }  // namespace vaw

@@ -41,7 +41,10 @@ std::optional<StabilityAdvice> stabilityAdvice(const World& world, PartId id) {
   }
   char buf[320];
   const std::string mname(dyn::name(method));
-  if (a.level == StabilityAdvice::Level::Stable) {
+  if (!(report->wnDt > 0.0) || !std::isfinite(report->margin)) {
+    // No restoring torque, so no swing and no limit to be below: say so rather than print "infx".
+    std::snprintf(buf, sizeof buf, "%s at %g Hz: nothing swings (gravity has no torque about this axis)", mname.c_str(), rate);
+  } else if (a.level == StabilityAdvice::Level::Stable) {
     std::snprintf(buf, sizeof buf, "%s at %g Hz is stable for this swing (wn*dt %.3g, %.1fx below its limit)",
                   mname.c_str(), rate, report->wnDt, report->margin);
   } else {

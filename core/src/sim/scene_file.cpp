@@ -49,6 +49,16 @@ Ordered constraintJson(const Assembly& a, const Constraint& c) {
     j["base_plane"] = Ordered{{"point", vec(c.basePlane.point)}, {"normal", vec(c.basePlane.normal)}};
     if (c.offset != 0.0) j["offset"] = c.offset;
   }
+  if (c.accepted) j["accepted"] = true;
+  j["home_direction"] = vec(c.homeDirection);
+  if (c.found) {
+    Ordered f{{"clearance", c.found->clearance}, {"overlap", c.found->overlap}, {"from_spline", c.found->fromSpline}};
+    if (c.type == Constraint::Type::Insert) {
+      f["part_radius"] = c.found->partRadius;
+      f["partner_radius"] = c.found->partnerRadius;
+    }
+    j["found"] = f;
+  }
   return j;
 }
 

@@ -21,6 +21,7 @@
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/session.hpp"
+#include "vaw/sim/world.hpp"
 
 namespace vaw::ui {
 
@@ -74,6 +75,20 @@ class AssemblyController : public QObject {
   void setLoader(Loader loader);
 
   void setLoadOptions(const vaw::LoadOptions& options) { options_ = options; }
+
+  // The current assembly with `constraints` instead of its own, as a new scene built here (synchronously:
+  // the collision geometry is rebuilt, which takes milliseconds for a CAD assembly); emits assemblyLoaded
+  // with isEditReload() true. The file stays the current one. `keepTuningOf`, when given, is the running
+  // world whose tuning (rate, gravity, method, friction) the new scene starts with, so an edit of the
+  // constraints does not undo the user's tuning. Returns false, with the reason in `why`, when the scene
+  // cannot be built (the current one then stays).
+  bool setConstraints(std::vector<vaw::Constraint> constraints, const vaw::sim::World* keepTuningOf = nullptr,
+                      QString* why = nullptr);
+  // True while assemblyLoaded is emitted for setConstraints: the same file, only its constraints changed.
+  [[nodiscard]] bool isEditReload() const { return editReload_; }
+  // Opens `path` with `base` as the base of its CAD assembly (vaw::LoadOptions::cadBase), and keeps that
+  // base for File > Reload of the same file.
+  void openWithBase(const QString& path, const std::string& base);
   [[nodiscard]] const vaw::LoadOptions& loadOptions() const { return options_; }
 
  public slots:
@@ -117,6 +132,12 @@ class AssemblyController : public QObject {
   std::optional<QString> pendingPath_;
   std::shared_ptr<std::atomic<bool>> cancel_;
   QFutureWatcher<Outcome> watcher_;
+  bool editReload_ = false;
+  struct ChosenBase {
+    QString path;  // absolute
+    std::string base;
+  };
+  std::optional<ChosenBase> chosenBase_;
 };
 
 }  // namespace vaw::ui

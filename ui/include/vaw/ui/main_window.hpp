@@ -36,6 +36,7 @@ class MethodsDock;
 class MotionChartDock;
 class WorkPrecisionDock;
 class TrialsDock;
+class ConstraintsDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -57,6 +58,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] MotionChartDock* motionDock() const { return motionDock_; }
   [[nodiscard]] WorkPrecisionDock* workPrecisionDock() const { return workPrecisionDock_; }
   [[nodiscard]] TrialsDock* trialsDock() const { return trialsDock_; }
+  [[nodiscard]] ConstraintsDock* constraintsDock() const { return constraintsDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -139,6 +141,7 @@ class MainWindow : public QMainWindow {
   MotionChartDock* motionDock_ = nullptr;
   WorkPrecisionDock* workPrecisionDock_ = nullptr;
   TrialsDock* trialsDock_ = nullptr;
+  ConstraintsDock* constraintsDock_ = nullptr;
   bool blinded_ = false;
   std::vector<QDockWidget*> closedForBlinding_;
   bool motionStale_ = true;  // a new world: the motion chart replays it when next shown

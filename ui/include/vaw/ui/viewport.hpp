@@ -73,6 +73,13 @@ class Viewport : public QWidget {
   [[nodiscard]] std::pair<Eigen::Vector3d, Eigen::Vector3d> rayThrough(const QPointF& windowPos) const;
   // World bounds of the parts (m) where the last frame put them.
   [[nodiscard]] Eigen::AlignedBox3d partsBounds() const;
+  // Where the last frame put `part` (its frame -> world); none for a part not drawn.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> partPose(vaw::PartId part) const;
+  // Face picking (the Constraints panel's "Add from faces"): while on, a click on a part emits facePicked
+  // instead of only selecting it, a drag turns the view instead of grabbing, and Esc emits
+  // facePickCancelled.
+  void setPickingFaces(bool on);
+  [[nodiscard]] bool pickingFaces() const { return pickingFaces_; }
   // The part being dragged, if any.
   [[nodiscard]] std::optional<vaw::PartId> dragging() const { return grabbing_ ? std::optional(candidate_->part) : std::nullopt; }
 
@@ -85,6 +92,25 @@ class Viewport : public QWidget {
     Eigen::Vector3d halfLengths = Eigen::Vector3d::Constant(0.05);
   };
   void showAxes(const std::optional<Axes>& axes);
+
+  // A constraint's geometry on its partner (the Constraints panel's selected row), drawn where the last
+  // frame put the partner: an axis as a line of `size` through `point`, a plane as a square of side `size`
+  // round `point` with its normal as a line. Given in the partner's frame; a new scene hides it.
+  struct ConstraintGeometry {
+    enum class Kind { Axis, Plane };
+    Kind kind = Kind::Axis;
+    vaw::PartId partner = 0;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // the axis's direction, the plane's normal; unit
+    double size = 0.1;                                     // m
+  };
+  void showConstraintGeometry(const ConstraintGeometry& geometry);
+  void hideConstraintGeometry();
+  [[nodiscard]] const std::optional<ConstraintGeometry>& constraintGeometry() const { return constraintShown_; }
+  // The world segments the constraint's overlay is drawn as now (none while hidden).
+  [[nodiscard]] const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& constraintSegments() const {
+    return constraintSegments_;
+  }
 
   [[nodiscard]] Qt3DExtras::Qt3DWindow* view3d() const { return view_; }
   [[nodiscard]] Qt3DRender::QCamera* camera() const;
@@ -122,6 +148,9 @@ class Viewport : public QWidget {
   // A key the viewport does not use, pressed while its 3D window has focus: the window's shortcuts do not
   // see it there (the 3D view is a native window of its own), so the main window matches it to its actions.
   void shortcutKey(const QKeySequence& key);
+  // A click on `part` while picking faces, and where it met the part (world, m).
+  void facePicked(vaw::PartId part, const Eigen::Vector3d& at);
+  void facePickCancelled();
 
  protected:
   bool eventFilter(QObject* watched, QEvent* event) override;
@@ -155,6 +184,7 @@ class Viewport : public QWidget {
   [[nodiscard]] Eigen::Vector3d handOnPlane(const QPointF& windowPos) const;
   void keyRates();
   [[nodiscard]] double lineRadius() const;
+  void placeConstraint();
 
   Qt3DExtras::Qt3DWindow* view_ = nullptr;
   QWidget* container_ = nullptr;
@@ -175,6 +205,10 @@ class Viewport : public QWidget {
   std::vector<Overlay> drops_, marks_;
   Overlay axes_[3];
   std::optional<Axes> axesShown_;
+  static constexpr std::size_t kConstraintLines = 5;  // a square's four sides and its normal; an axis uses one
+  Overlay constraintLines_[kConstraintLines];
+  std::optional<ConstraintGeometry> constraintShown_;
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> constraintSegments_;
   std::size_t lastUpdates_ = 0;
   std::optional<vaw::PartId> selected_;
   Eigen::AlignedBox3d partsBounds_;  // at load: the size of things (line widths)
@@ -182,6 +216,7 @@ class Viewport : public QWidget {
   QPoint pressPos_;
   bool dragged_ = false;
   bool autoFit_ = true;  // refit on resize until the user moves the camera
+  bool pickingFaces_ = false;
   // Dragging a part: what the press hit, whether the drag has begun, the plane the hand moves on.
   std::optional<Pick> candidate_;
   bool grabbing_ = false;

@@ -1,0 +1,242 @@
+// A STEP assembly in the workbench, used as a person uses it: opened (and dropped on the window), then
+// assembled with the mouse in the order its constraints allow: a nut at its place before its stud is
+// refused with the reason in Messages; the studs go into the plate, the bracket over the studs, the nut
+// onto its stud against the bracket, each PLACED. Real mouse presses, moves and wheel turns in the 3D
+// view; any Qt warning fails the test; screenshots go to the build tree (tests/gui/step-*.png).
+#include <Qt3DExtras/Qt3DWindow>
+#include <Qt3DRender/QCamera>
+#include <QMimeData>
+#include <QSignalSpy>
+#include <QTableView>
+#include <QTreeView>
+#include <QUrl>
+#include <QWheelEvent>
+#include <QtTest>
+#include <cmath>
+#include <memory>
+
+#include "gui_test_support.hpp"
+#include "vaw/paths.hpp"
+#include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/docks.hpp"
+#include "vaw/ui/main_window.hpp"
+#include "vaw/ui/message_log_model.hpp"
+#include "vaw/ui/part_properties_model.hpp"
+#include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/viewport.hpp"
+
+using vaw::PartId;
+using vaw::interact::PartState;
+using vaw::ui::AssemblyController;
+using vaw::ui::MainWindow;
+
+namespace {
+
+QString sampleFile() { return QFile::decodeName((vaw::resourceDir() / "step" / "bolted-bracket.stp").string().c_str()); }
+
+QVector3D toQt(const Eigen::Vector3d& v) {
+  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+}
+
+}  // namespace
+
+class TestStep : public QObject {
+  Q_OBJECT
+
+ public:
+  static void initMain() {
+    if (qEnvironmentVariableIsEmpty("QT3D_RENDERER")) qputenv("QT3D_RENDERER", "opengl");
+  }
+
+ private slots:
+  void initTestCase();
+  void cleanup();
+  void cleanupTestCase();
+
+  void droppedStepFileOpensWithItsTreeAndBrepMass();
+  void bracketIsAssembledWithTheMouseInOrder();
+
+ private:
+  [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
+  [[nodiscard]] vaw::ui::SimulationController& sim() const { return window_->simulation(); }
+  [[nodiscard]] const vaw::Assembly& assembly() const { return *controller_->assembly(); }
+  [[nodiscard]] const vaw::sim::World& world() const { return sim().world(); }
+  [[nodiscard]] PartId part(const char* name) const { return *assembly().findPart(name); }
+  [[nodiscard]] PartState state(const char* name) const { return world().part(part(name)).state; }
+  [[nodiscard]] bool messagesMention(const QString& text) const;
+  void open();
+  // Grabs `name` where it is seen, carries it so that it lands at `target` (wheel for depth, the pointer
+  // for the rest) and lets go.
+  void carry(const char* name, const Eigen::Isometry3d& target);
+  // The centre of the largest of the part's highest upward-facing triangles, in the world: a point on its top.
+  [[nodiscard]] Eigen::Vector3d topFaceCentre(PartId id) const {
+    const vaw::TriMesh& m = *assembly().parts[id].mesh;
+    const Eigen::Isometry3d& pose = world().part(id).pose;
+    Eigen::Vector3d best = pose.translation();
+    double bestZ = -1e300, bestArea = 0.0;
+    for (const auto& t : m.triangles) {
+      const Eigen::Vector3d a = pose * m.vertices[static_cast<std::size_t>(t[0])], b = pose * m.vertices[static_cast<std::size_t>(t[1])],
+                            c = pose * m.vertices[static_cast<std::size_t>(t[2])];
+      const Eigen::Vector3d n = (b - a).cross(c - a);
+      if (n.z() < 0.9 * n.norm()) continue;
+      const Eigen::Vector3d centre = (a + b + c) / 3.0;
+      const double area = 0.5 * n.norm();
+      if (centre.z() > bestZ + 1e-6 || (centre.z() > bestZ - 1e-6 && area > bestArea)) {
+        best = centre;
+        bestZ = centre.z();
+        bestArea = area;
+      }
+    }
+    return best;
+  }
+  [[nodiscard]] Eigen::Isometry3d above(const char* name, double mm) const {
+    Eigen::Isometry3d t = *assembly().parts[part(name)].finalPose;
+    t.translation().z() += mm * 1e-3;
+    return t;
+  }
+
+  std::unique_ptr<AssemblyController> controller_;
+  std::unique_ptr<MainWindow> window_;
+};
+
+void TestStep::initTestCase() {
+  vaw::guitest::failOnWarnings();
+  controller_ = std::make_unique<AssemblyController>();
+  window_ = std::make_unique<MainWindow>(*controller_);
+  window_->resize(1280, 800);
+  window_->show();
+  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
+  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
+}
+
+void TestStep::cleanup() {
+  if (window_) sim().pause();
+  vaw::guitest::verifyNoWarnings();
+}
+
+void TestStep::cleanupTestCase() {
+  window_.reset();
+  controller_.reset();
+  vaw::guitest::restoreMessageHandler();
+}
+
+bool TestStep::messagesMention(const QString& text) const {
+  const auto* model = window_->messagesDock()->model();
+  for (int row = 0; row < model->rowCount(); ++row)
+    if (model->text(row).contains(text)) return true;
+  return false;
+}
+
+void TestStep::open() {
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  controller_->open(sampleFile());
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QVERIFY(sim().hasWorld());
+  sim().setSpeed(1.0);
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+}
+
+void TestStep::carry(const char* name, const Eigen::Isometry3d& target) {
+  const PartId id = part(name);
+  // A steep view from above that holds the part and its place, so that the parts waiting in a column do not
+  // hide each other: the hand moves on a plane facing it.
+  const Eigen::Vector3d from = world().part(id).pose.translation();
+  const Eigen::Vector3d centre = 0.5 * (from + target.translation());
+  const double distance = 0.2 + 1.5 * (target.translation() - from).norm();
+  Qt3DRender::QCamera* cam = viewport()->camera();
+  cam->setViewCenter(toQt(centre));
+  cam->setPosition(toQt(centre + distance * Eigen::Vector3d(0.25, -0.6, 1.0).normalized()));
+  cam->setUpVector(QVector3D(0, 0, 1));
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+  // Pressed on its top face, as a person takes a nut: the middle of its bounds is the hole.
+  const QPoint p = viewport()->projectToWindow(topFaceCentre(id)).toPoint();
+  QVERIFY2(viewport()->rect().contains(p), name);
+  vaw::guitest::pressAndDrag(viewport()->view3d(), p, p + QPoint(0, -20), 4, 30);  // past the drag distance
+  QTRY_COMPARE_WITH_TIMEOUT(world().part(id).state, PartState::InHand, 3000);
+  QTest::qWait(100);
+  // The hand carries the part rigidly: it must go where the part's move takes the hand.
+  const Eigen::Vector3d hand = sim().handPosition();
+  const Eigen::Vector3d wanted = hand + (target.translation() - world().part(id).pose.translation());
+  const Eigen::Vector3d eye(cam->position().x(), cam->position().y(), cam->position().z());
+  const Eigen::Vector3d view = (centre - eye).normalized();
+  // The wheel moves the hand's plane along the view by 5 % of its distance a notch.
+  const double notches = view.dot(wanted - hand) / (0.05 * view.dot(hand - eye));
+  const QPoint pointer = viewport()->projectToWindow(hand).toPoint();
+  QWheelEvent wheel(QPointF(pointer), viewport()->view3d()->mapToGlobal(QPointF(pointer)), QPoint(),
+                    QPoint(0, static_cast<int>(std::lround(notches * 120.0))), Qt::LeftButton, Qt::NoModifier,
+                    Qt::NoScrollPhase, false);
+  QCoreApplication::sendEvent(viewport()->view3d(), &wheel);
+  QTest::qWait(50);
+  const QPoint to = viewport()->projectToWindow(wanted).toPoint();
+  for (int i = 1; i <= 10; ++i) {
+    QTest::mouseMove(viewport()->view3d(), pointer + (to - pointer) * i / 10);
+    QTest::qWait(25);
+  }
+  // Held still before the release, so it leaves with no speed.
+  QTest::qWait(300);
+  const double off = (world().part(id).pose.translation() - target.translation()).norm();
+  QVERIFY2(off < 0.003, qPrintable(QStringLiteral("%1 carried to %2 mm from its target").arg(QLatin1String(name)).arg(off * 1e3)));
+  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, to);
+}
+
+// The sample dropped on the window as from a file manager: the tree shows the file's assembly, the part
+// panel the B-rep as the mass source.
+void TestStep::droppedStepFileOpensWithItsTreeAndBrepMass() {
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  QMimeData mime;
+  mime.setUrls({QUrl::fromLocalFile(sampleFile())});
+  const QPoint at(window_->width() / 2, window_->height() / 2);
+  QDragEnterEvent enter(at, Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+  QCoreApplication::sendEvent(window_.get(), &enter);
+  QVERIFY(enter.isAccepted());
+  QDropEvent drop(at, Qt::CopyAction, &mime, Qt::LeftButton, Qt::NoModifier);
+  QCoreApplication::sendEvent(window_.get(), &drop);
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QCOMPARE(assembly().parts.size(), std::size_t{8});
+  QCOMPARE(assembly().constraints.size(), std::size_t{15});
+  QCOMPARE(assembly().parts[*assembly().base].name, std::string("base-plate"));
+  const QAbstractItemModel* tree = window_->sceneDock()->view()->model();
+  const QModelIndexList group = tree->match(tree->index(0, 0), Qt::DisplayRole, QStringLiteral("pin-assembly"), 1,
+                                            Qt::MatchRecursive | Qt::MatchContains);
+  QVERIFY2(!group.isEmpty(), "the sub-assembly is a group of the tree");
+  QCOMPARE(tree->rowCount(group.front()), 2);
+  window_->sceneDock()->selectPart(part("stud-2"));
+  window_->partDock()->showPart(&assembly(), part("stud-2"));
+  const auto* props = window_->partDock()->model();
+  bool brep = false;
+  for (int row = 0; row < props->rowCount(); ++row)
+    brep = brep || props->data(props->index(row, 1)).toString().contains(QStringLiteral("exact B-rep"));
+  QVERIFY2(brep, "the part panel names the B-rep as the mass source");
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-opened.png"));
+}
+
+void TestStep::bracketIsAssembledWithTheMouseInOrder() {
+  open();
+  // The nut at its place before its stud: refused, with the partner named.
+  const Eigen::Isometry3d nutWaits = world().part(part("nut-1")).pose;
+  carry("nut-1", above("nut-1", 0.0));
+  QTRY_VERIFY_WITH_TIMEOUT(messagesMention(QStringLiteral("its partner stud-1 is not placed yet")), 3000);
+  QVERIFY(state("nut-1") != PartState::Placed);
+  QTRY_VERIFY_WITH_TIMEOUT(state("nut-1") == PartState::Static, 5000);
+  // Put back where it waited, out of the bracket's way.
+  Eigen::Isometry3d aside = nutWaits;
+  aside.translation().z() += 0.002;
+  carry("nut-1", aside);
+  QTRY_VERIFY_WITH_TIMEOUT(state("nut-1") == PartState::Static, 5000);
+
+  // The studs' tips into their holes: each slides home and is PLACED.
+  for (const char* stud : {"stud-1", "stud-2"}) {
+    carry(stud, above(stud, 5.0));
+    QTRY_VERIFY2_WITH_TIMEOUT(state(stud) == PartState::Placed, stud, 5000);
+  }
+  // The bracket over both studs, then the nut onto its stud: down until the bracket stops it.
+  carry("bracket", above("bracket", 4.0));
+  QTRY_VERIFY2_WITH_TIMEOUT(state("bracket") == PartState::Placed, "bracket", 5000);
+  carry("nut-1", above("nut-1", 6.0));
+  QTRY_VERIFY2_WITH_TIMEOUT(state("nut-1") == PartState::Placed, "nut-1", 5000);
+  QTest::qWait(200);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-assembled.png"));
+}
+
+QTEST_MAIN(TestStep)
+#include "tst_step.moc"
