@@ -104,6 +104,14 @@ std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
       if (rec.distance > settings.recognizeDistance) continue;
       rec.pose.translation() -= nb * d;
     }
+    // A constraint found in a CAD file knows the side its part comes home from: a part past its home
+    // (a stud pushed through the plate from below) is not put on it there.
+    if (c.found && def(id).finalPose) {
+      const Eigen::Vector3d home = B.linear() * c.homeDirection;
+      const Eigen::Vector3d finalAt = (B * (baseLoad.inverse() * *def(id).finalPose)).translation();
+      // Where it was let go, not where the mate would snap it.
+      if (home.dot(P.translation() - finalAt) < -settings.placeDistance) continue;
+    }
     const collision::Support& s = scene->support(ci);
     if (!s.problem.empty()) continue;
     if (!collision.touching(s, rec.pose).touching) continue;
