@@ -5,6 +5,8 @@
 // view; any Qt warning fails the test; screenshots go to the build tree (tests/gui/step-*.png).
 #include <Qt3DExtras/Qt3DWindow>
 #include <Qt3DRender/QCamera>
+#include <QDoubleSpinBox>
+#include <QInputDialog>
 #include <QMimeData>
 #include <QSignalSpy>
 #include <QTableView>
@@ -55,6 +57,7 @@ class TestStep : public QObject {
 
   void droppedStepFileOpensWithItsTreeAndBrepMass();
   void bracketIsAssembledWithTheMouseInOrder();
+  void coarserTessellationIsChosenAndReadAgain();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -236,6 +239,33 @@ void TestStep::bracketIsAssembledWithTheMouseInOrder() {
   QTRY_VERIFY2_WITH_TIMEOUT(state("nut-1") == PartState::Placed, "nut-1", 5000);
   QTest::qWait(200);
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-assembled.png"));
+}
+
+// File > STEP Tessellation, answered in its dialog: the open file is read again, coarser.
+void TestStep::coarserTessellationIsChosenAndReadAgain() {
+  open();
+  const std::size_t fine = assembly().totalTriangles();
+  const double fineDeflection = assembly().parts[part("stud-1")].cad->deflection;
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  QTimer::singleShot(0, this, [] {
+    auto* dialog = qobject_cast<QInputDialog*>(QApplication::activeModalWidget());
+    QVERIFY(dialog != nullptr);
+    auto* box = dialog->findChild<QDoubleSpinBox*>();
+    QVERIFY(box != nullptr);
+    QTest::keyClick(box, Qt::Key_A, Qt::ControlModifier);
+    QTest::keyClicks(box, QStringLiteral("0.01"));
+    QTest::keyClick(box, Qt::Key_Return);
+  });
+  window_->findChild<QAction*>(QStringLiteral("stepDeflectionAction"))->trigger();
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QCOMPARE(controller_->loadOptions().import.relativeDeflection, 0.01);
+  QVERIFY2(assembly().totalTriangles() < fine,
+           qPrintable(QStringLiteral("%1 triangles, %2 before").arg(assembly().totalTriangles()).arg(fine)));
+  QCOMPARE(assembly().parts[part("stud-1")].cad->deflection / fineDeflection, 10.0);
+  QCOMPARE(assembly().constraints.size(), std::size_t{15});
+  // Back to the default for the other tests and runs (the choice is kept in the settings).
+  window_->setStepDeflection(vaw::ImportOptions{}.relativeDeflection);
+  QVERIFY(loaded.wait(60000));
 }
 
 QTEST_MAIN(TestStep)

@@ -20,6 +20,7 @@
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QInputDialog>
 #include <QKeySequence>
 #include <QLabel>
 #include <QMenuBar>
@@ -137,6 +138,14 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     QSettings settings;
     restoreGeometry(settings.value(QStringLiteral("window/geometry")).toByteArray());
     restoreState(settings.value(QStringLiteral("window/state")).toByteArray());
+    // The STEP tessellation chosen in an earlier run (File > STEP Tessellation).
+    bool ok = false;
+    const double deflection = settings.value(QStringLiteral("import/relativeDeflection")).toDouble(&ok);
+    if (ok && deflection > 0.0) {
+      vaw::LoadOptions options = controller_.loadOptions();
+      options.import.relativeDeflection = deflection;
+      controller_.setLoadOptions(options);
+    }
   }
   liveTimer_.setSingleShot(true);
   connect(&liveTimer_, &QTimer::timeout, this, &MainWindow::updateLive);
@@ -293,6 +302,9 @@ void MainWindow::createMenus() {
   saveAsAction_->setObjectName(QStringLiteral("saveAsAction"));
   saveAsAction_->setShortcut(QKeySequence(tr("Ctrl+Alt+S")));
   saveAsAction_->setEnabled(false);
+  QAction* tessellation = file->addAction(tr("STEP &Tessellation..."), this, &MainWindow::stepDeflectionDialog);
+  tessellation->setObjectName(QStringLiteral("stepDeflectionAction"));
+  tessellation->setToolTip(tr("How finely STEP parts are tessellated for display and collision"));
   QAction* save = file->addAction(tr("Save &Session..."), this, &MainWindow::saveSessionDialog);
   save->setObjectName(QStringLiteral("saveSessionAction"));
   save->setShortcut(QKeySequence(tr("Ctrl+Shift+S")));
@@ -376,6 +388,28 @@ void MainWindow::openFileDialog() {
   const QString path = QFileDialog::getOpenFileName(this, tr("Open scene, mesh or session"), start,
                                                     filters.join(QStringLiteral(";;")));
   if (!path.isEmpty()) openFile(path);
+}
+
+void MainWindow::stepDeflectionDialog() {
+  bool ok = false;
+  const double value = QInputDialog::getDouble(
+      this, tr("STEP tessellation"),
+      tr("Chordal deflection as a fraction of each part's size\n(smaller is finer: more triangles, slower collision)"),
+      controller_.loadOptions().import.relativeDeflection, 0.0001, 0.05, 4, &ok);
+  if (ok) setStepDeflection(value);
+}
+
+void MainWindow::setStepDeflection(double relative) {
+  vaw::LoadOptions options = controller_.loadOptions();
+  options.import.relativeDeflection = relative;
+  controller_.setLoadOptions(options);
+  QSettings().setValue(QStringLiteral("import/relativeDeflection"), relative);
+  const vaw::Assembly* a = controller_.assembly();
+  const QString text = tr("STEP tessellation: deflection %1 of each part's size").arg(relative);
+  message(static_cast<int>(MessageLogModel::Severity::Info), text);
+  statusBar()->showMessage(text, 8000);
+  // The open STEP assembly is tessellated anew, asking first about unsaved changes.
+  if (a != nullptr && !a->cadFile.empty() && maybeSave()) controller_.reload();
 }
 
 void MainWindow::openFile(const QString& path) {

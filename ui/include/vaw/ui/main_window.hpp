@@ -84,6 +84,10 @@ class MainWindow : public QMainWindow {
   bool save();
   bool saveAs();
   bool saveScene(const QString& file);
+  // File > STEP Tessellation: the chordal deflection of STEP parts as a fraction of each part's size, kept
+  // between runs; an open STEP assembly is read again with it.
+  void stepDeflectionDialog();
+  void setStepDeflection(double relative);
   // Opens `path` after asking about unsaved tuning (which may cancel).
   void openFile(const QString& path);
   // Asks whether to save unsaved tuning: true when it was saved or may be dropped, false to cancel.
