@@ -257,7 +257,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   std::vector<RecognitionPart> rec;
   for (const Part& p : a.parts) {
     filePoses.push_back(p.pose);
-    rec.push_back({p.cad, p.pose, p.mass.mass});
+    rec.push_back({p.cad, p.pose});
   }
   a.constraints = constraintsFromFound(recognizeConstraints(rec), a.parts, base, filePoses);
   // Parts come home along their constraints and are PLACED where they come to rest there.

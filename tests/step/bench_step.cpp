@@ -74,7 +74,7 @@ void BM_StepSceneBuilt(benchmark::State& state) {
 void BM_Recognition(benchmark::State& state) {
   const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
   std::vector<vaw::RecognitionPart> parts;
-  for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose), p.mass.mass});
+  for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
   for (auto _ : state) benchmark::DoNotOptimize(vaw::recognizeConstraints(parts));
   state.counters["parts"] = static_cast<double>(parts.size());
 }

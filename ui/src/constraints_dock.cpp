@@ -551,7 +551,7 @@ void ConstraintsDock::addFromFaces(vaw::PartId partA, std::size_t faceA, vaw::Pa
   std::vector<Eigen::Isometry3d> poses;
   for (vaw::PartId id = 0; id < a->parts.size(); ++id) {
     poses.push_back(assembledPose(*a, id));
-    rec.push_back({a->parts[id].cad, poses.back(), a->parts[id].mass.mass});
+    rec.push_back({a->parts[id].cad, poses.back()});
   }
   const vaw::FacePairResult result = vaw::constraintFromFaces(rec, partA, faceA, partB, faceB);
   const QString pair = tr("%1 and %2").arg(str(a->parts[partA].name), str(a->parts[partB].name));

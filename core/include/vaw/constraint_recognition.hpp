@@ -27,7 +27,6 @@ struct RecognitionTolerances {
 struct RecognitionPart {
   std::shared_ptr<const CadSolid> solid;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  double mass = 0.0;
 };
 
 // One constraint between two parts, geometry in world coordinates at the assembled pose. `a` and `b` are
