@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "collision/geometry2d.hpp"
+#include "vaw/collision/surface_patches.hpp"
 #include "load_detail.hpp"
 #include "vaw/categories.hpp"
 #include "vaw/hash.hpp"
@@ -140,6 +141,62 @@ std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, Part
   return poses;
 }
 
+std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std::string& product, Eigen::Vector3d& centroid) {
+  const VolumeIntegrals vi = integrateVolume(mesh);
+  centroid = vi.centroid;
+  TriMesh local = mesh;
+  for (auto& v : local.vertices) v -= centroid;
+  const collision::SurfacePatches patches = collision::classifySurfaces(local);
+
+  auto solid = std::make_shared<CadSolid>();
+  solid->product = product;
+  solid->volume = vi.volume;
+  solid->centroid = Eigen::Vector3d::Zero();
+  solid->inertiaUnitDensity = vi.inertiaUnitDensity;
+  solid->surfaceArea = vi.surfaceArea;
+  solid->mesh.vertices = local.vertices;
+  std::vector<bool> taken(local.triangles.size(), false);
+  const auto triangleArea = [&](int t) {
+    const Eigen::Vector3i& tri = local.triangles[static_cast<std::size_t>(t)];
+    return 0.5 * (local.vertices[tri[1]] - local.vertices[tri[0]]).cross(local.vertices[tri[2]] - local.vertices[tri[0]]).norm();
+  };
+  const auto addFace = [&](CadFace f, const std::vector<int>& triangles) {
+    f.firstTriangle = solid->mesh.triangles.size();
+    f.area = 0.0;
+    for (int t : triangles) {
+      if (taken[static_cast<std::size_t>(t)]) continue;
+      taken[static_cast<std::size_t>(t)] = true;
+      solid->mesh.triangles.push_back(local.triangles[static_cast<std::size_t>(t)]);
+      f.area += triangleArea(t);
+    }
+    f.triangleCount = solid->mesh.triangles.size() - f.firstTriangle;
+    if (f.triangleCount > 0) solid->faces.push_back(f);
+  };
+  for (const auto& c : patches.cylinders) {
+    CadFace f;
+    f.surface = CadFace::Surface::Cylinder;
+    f.point = c.point;
+    f.direction = c.direction;
+    f.radius = c.radius;
+    f.convex = c.convex;
+    f.axialMin = 0.0;
+    f.axialMax = c.length;
+    addFace(f, c.triangles);
+  }
+  for (const auto& p : patches.planes) {
+    CadFace f;
+    f.surface = CadFace::Surface::Plane;
+    f.point = p.origin;
+    f.direction = p.normal;
+    addFace(f, p.triangles);
+  }
+  std::vector<int> rest;
+  for (std::size_t t = 0; t < taken.size(); ++t)
+    if (!taken[t]) rest.push_back(static_cast<int>(t));
+  addFace(CadFace{}, rest);
+  return solid;
+}
+
 std::string fileContentHash(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file.string(), "", "a readable file", "cannot open it");
@@ -154,7 +211,8 @@ std::string fileContentHash(const std::filesystem::path& file) {
   return text;
 }
 
-Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress) {
+Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress,
+                         MassSource massSource) {
   const std::string fileStr = file.string();
   Assembly a;
   a.source = file;
@@ -217,12 +275,16 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     p.mesh = it->second.mesh;
     p.cad = in.node->solid;
     p.color = in.node->color ? in.node->color : solid.color;
-    p.fileMass = it->second.brep;
     p.meshMass = it->second.mesh_;
-    p.mass = it->second.brep;
-    p.massSource = MassSource::Brep;
-    p.disagreement = compare(*p.fileMass, *p.meshMass, p.mesh->bounds().diagonal().norm());
-    if (p.disagreement->worst() > options.massDisagreementWarning) {
+    p.massSource = massSource;
+    if (massSource == MassSource::Brep) {
+      p.fileMass = it->second.brep;
+      p.mass = it->second.brep;
+      p.disagreement = compare(*p.fileMass, *p.meshMass, p.mesh->bounds().diagonal().norm());
+    } else {
+      p.mass = it->second.mesh_;
+    }
+    if (p.disagreement && p.disagreement->worst() > options.massDisagreementWarning) {
       std::ostringstream s;
       s << "mass " << 100.0 * p.disagreement->massRel << " %, centre of mass " << 1000.0 * p.disagreement->comDistance
         << " mm, inertia " << 100.0 * p.disagreement->inertiaRel << " % (the tessellation is coarse: lower the deflection)";

@@ -325,25 +325,31 @@ class SceneReader {
     if (auto d = root.opt("description")) (void)d->string();
     const Node cad = root.get("cad");
     cad.requireObject();
-    cad.allowOnly({"file", "hash", "base"});
+    cad.allowOnly({"file", "hash", "base", "units"});
     const Node fileNode = cad.get("file");
     const std::filesystem::path cadFile = dir_ / fileNode.string();
     if (const std::string problem = fileProblem(cadFile); !problem.empty())
       fileNode.failWith("an existing, readable CAD file", "\"" + cadFile.string() + "\": " + problem);
-    const MeshImporter* importer = importers_.find(cadFile);
-    if (!importer) fileNode.failWith("a STEP file (the Open CASCADE plugin reads it)", "\"" + cadFile.extension().string() + "\" with no importer for it");
+    if (!importers_.find(cadFile))
+      fileNode.failWith("a STEP file (the Open CASCADE plugin reads it) or a mesh file of several parts",
+                        "\"" + cadFile.extension().string() + "\" with no importer for it");
     LoadOptions opts = options_;
     // A base chosen by the caller (re-basing a saved scene) wins over the one the scene saved.
     if (auto b = cad.opt("base"); b && !options_.cadBase) opts.cadBase = b->string();
-    ImportedMesh im = importer->read(cadFile, opts.import, progress_.sub(0.0, 0.7));
-    if (!im.isCad()) fileNode.failWith("a CAD file with solids", "a mesh file");
+    // The unit assumed for a mesh file, which declares none.
+    if (auto u = cad.opt("units")) {
+      const auto unit = parseLengthUnit(u->string());
+      if (!unit) u->fail("a length unit: \"m\", \"mm\" or \"inch\"");
+      opts.bareMeshUnits = *unit;
+    }
     try {
-      assembly_ = assemblyFromCad(std::move(im), cadFile, opts, progress_.sub(0.7, 0.9));
+      assembly_ = loadMeshFile(cadFile, importers_, opts, progress_.sub(0.0, 0.9));
     } catch (const InputError& e) {
       // The base named in the scene is no part of the file any more: say where it was named.
       if (e.diagnostic().field == "base" && cad.has("base") && !options_.cadBase) cad.get("base").fail("the name of a part in " + cadFile.string());
       throw;
     }
+    if (assembly_.cadFile.empty()) fileNode.failWith("a CAD file with solids or a mesh file of several parts", "a mesh file of one part");
     assembly_.source = path_;
     assembly_.name = root.get("name").string();
     assembly_.tree.name = assembly_.name;
@@ -846,9 +852,34 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
     for (const auto& c : im.root.children)
       if (c.subtreeTriangles() > 0) roots.push_back(&c);
 
+  const std::string fileStr = file.string();
+  if (roots.size() >= 2) {
+    // An assembly of several parts: laid out and its constraints found from the surface patches, like a
+    // STEP file's (docs/step.md, "Mesh files").
+    ImportedMesh solids;
+    solids.root.name = file.stem().string();
+    for (std::size_t i = 0; i < roots.size(); ++i) {
+      const ImportedNode& n = *roots[i];
+      const std::string name = n.name.empty() ? file.stem().string() + "-" + std::to_string(i + 1) : n.name;
+      progress.report(0.6 + 0.2 * static_cast<double>(i) / static_cast<double>(roots.size()), "part " + name);
+      TriMesh mesh = n.merged();
+      mesh.scale(L);
+      validateSolid(mesh, fileStr + " (node " + name + ")", a.warnings, {});
+      ImportedNode node;
+      node.name = name;
+      Eigen::Vector3d centroid;
+      node.solid = cadSolidFromMesh(mesh, name, centroid);
+      node.location.translation() = centroid;
+      solids.root.children.push_back(std::move(node));
+    }
+    Assembly cad = assemblyFromCad(std::move(solids), file, options, progress.sub(0.8, 1.0), MassSource::Mesh);
+    cad.units = a.units;
+    cad.warnings.insert(cad.warnings.begin(), a.warnings.begin(), a.warnings.end());
+    return cad;
+  }
+
   a.tree.kind = TreeNode::Kind::Assembly;
   a.tree.name = a.name;
-  const std::string fileStr = file.string();
   for (std::size_t i = 0; i < roots.size(); ++i) {
     const double from = 0.6 + 0.4 * static_cast<double>(i) / static_cast<double>(roots.size());
     const double to = 0.6 + 0.4 * static_cast<double>(i + 1) / static_cast<double>(roots.size());

@@ -4,6 +4,7 @@
 // every part's final pose, the base (the heaviest part unless named), the constraints found in the
 // geometry, and the other parts laid out on the table beside the base, each resting on a stable face.
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,9 +17,19 @@ namespace vaw {
 struct LoadOptions;
 
 // Builds the assembly from what the importer read. Throws InputError naming the file for a file without
-// a usable solid, LoadCancelled when `progress` says stop.
+// a usable solid, LoadCancelled when `progress` says stop. `massSource` Brep takes each solid's mass
+// properties from its boundary representation with the mesh's as the cross-check; Mesh (solids made from
+// a mesh file's parts by cadSolidFromMesh) takes the mesh's alone.
 Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options,
-                         const ProgressFn& progress = {});
+                         const ProgressFn& progress = {}, MassSource massSource = MassSource::Brep);
+
+// One part of a mesh file (STL, OBJ, glTF, ...) as a CAD solid, so that a mesh assembly is laid out and its
+// constraints found like a STEP file's: the faces are the collision module's surface patches (cylinders
+// first, then the planar patches that are not facets of a cylinder, then the rest as one face of kind
+// Other), the triangles reordered to be contiguous per face, and the mass properties the mesh's. `mesh`
+// is closed and outward oriented, in metres; the solid's frame has its origin at the mesh's centroid,
+// returned in `centroid` so that the part can be placed where it was.
+std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std::string& product, Eigen::Vector3d& centroid);
 
 // "fnv1a64:" and the 16 hex digits of the FNV-1a hash of the file's bytes; throws InputError naming it.
 std::string fileContentHash(const std::filesystem::path& file);

@@ -114,6 +114,8 @@ void World::Impl::letGo(PartId id, bool tool, interact::Hands hands, const HandI
                       fmt(": %.6f m, %.4f deg from its mate", rec->distance, rec->angle / kDeg))) {
       setPose(id, rec->pose);
       enterOnBase(id, rec->constraint);
+      // Put down on its mate at home (a shaft stood on its plate) it has nowhere to slide to.
+      placeIfHome(id);
       return;
     }
   }
