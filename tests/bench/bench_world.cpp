@@ -6,7 +6,11 @@
 //   build/bin/vaw_bench_world [--benchmark_repetitions=5 --benchmark_report_aggregates_only=true]
 #include <benchmark/benchmark.h>
 
+#include <malloc.h>
+
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <numbers>
 
@@ -163,6 +167,82 @@ void BM_SeekMiddleOfTenMinutesLargeGearbox(benchmark::State& state) {
   state.counters["transitions"] = static_cast<double>(rec.transitions().size());
 }
 BENCHMARK(BM_SeekMiddleOfTenMinutesLargeGearbox)->Unit(benchmark::kMillisecond)->Iterations(200);
+
+// An hour at the workbench (docs/benchmarks.md, "Recording an hour"): one simulated hour of the large gearbox
+// recorded as the workbench records it, with parts handled as a person would: every 16 s the right hand
+// closes on the next bolt or washer, lifts it 0.1 m over half a second, carries it 0.2 m sideways over a
+// second and lets go while still moving at 0.2 m/s; every 5 minutes the
+// base tilts by 10 degrees for 30 s. Reported: the heap the recording holds per hour (measured by malloc's
+// own count before and after, and the recorder's estimate), the snapshots and input runs it keeps, and the
+// time of a seek to the start, into the middle and to the end, each the worst of its kind (the most steps
+// to replay) and each from far away, timed over 20 seeks.
+void BM_RecordAnHourLargeGearbox(benchmark::State& state) {
+  Eigen::Vector3d unused;
+  const auto scene = vaw::sim::Scene::build(gearbox(unused));
+  const vaw::Assembly& a = scene->assembly();
+  std::vector<vaw::PartId> handled;
+  for (const char* kind : {"bolt-", "washer-"})
+    for (int k = 1; k <= 24; ++k) {
+      char name[32];
+      std::snprintf(name, sizeof name, "%s%02d", kind, k);
+      if (const auto id = a.findPart(name)) handled.push_back(*id);
+    }
+  for (auto _ : state) {
+    const std::size_t heapBefore = mallinfo2().uordblks;
+    auto rec = std::make_unique<vaw::sim::Recorder>(scene, vaw::sim::Settings{}, "large-gearbox.vaw.json");
+    const double rate = rec->world().settings().rate;
+    const auto steps = static_cast<std::uint64_t>(3600.0 * rate);
+    const Eigen::Isometry3d base0 = rec->world().basePose();
+    Eigen::Vector3d start = Eigen::Vector3d::Zero();
+    vaw::sim::Input in;
+    std::size_t next = 0;
+    for (std::uint64_t k = 0; k < steps; ++k) {
+      const double t = static_cast<double>(k) / rate;
+      const double phase = std::fmod(t, 16.0);
+      if (phase < 1.0 / rate) {  // close on the next part where it lies
+        const vaw::PartId id = handled[next++ % handled.size()];
+        start = rec->world().part(id).pose * a.parts[id].mass.centerOfMass;
+        in.right = {at(start.x(), start.y(), start.z()), true, id};
+      } else if (phase < 0.5) {
+        in.right.pose = at(start.x(), start.y(), start.z() + 0.2 * phase);
+      } else if (phase < 1.5) {
+        in.right.pose = at(start.x() + 0.2 * (phase - 0.5), start.y(), start.z() + 0.1);
+        if (phase > 1.5 - 2.0 / rate) in.right.grab = false;  // let go while moving
+      }
+      const double cycle = std::fmod(t, 300.0);
+      Eigen::Isometry3d base = base0;
+      if (cycle > 240.0 && cycle < 270.0)
+        base.linear() = Eigen::AngleAxisd(10.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix() * base0.linear();
+      in.base = base;
+      rec->record(in);
+    }
+    const std::size_t heapAfter = mallinfo2().uordblks;
+    const double hours = rec->endTime() / 3600.0;
+    state.counters["recording_MB_per_h"] = static_cast<double>(rec->memoryBytes()) / 1e6 / hours;
+    state.counters["heap_MB_per_h"] = static_cast<double>(heapAfter - heapBefore) / 1e6 / hours;
+    state.counters["snapshots"] = static_cast<double>(rec->snapshotCount());
+    state.counters["input_runs"] = static_cast<double>(rec->session().inputs.runs());
+    state.counters["transitions"] = static_cast<double>(rec->transitions().size());
+    // The worst seek of each kind: the step before a snapshot, so the most steps are replayed.
+    const std::uint64_t interval = rec->snapshotInterval();
+    const std::uint64_t sparse = interval * vaw::sim::Recorder::kSparseEvery;
+    const std::uint64_t targets[3] = {interval - 1, steps / 2 / sparse * sparse - 1, steps - 1};
+    const char* names[3] = {"seek_start_ms", "seek_middle_ms", "seek_end_ms"};
+    for (int k = 0; k < 3; ++k) {
+      double worst = 0.0;
+      for (int r = 0; r < 20; ++r) {
+        rec->seek(targets[k] > steps / 2 ? 0 : steps);  // from far away
+        const auto t0 = std::chrono::steady_clock::now();
+        rec->seek(targets[k]);
+        const std::chrono::duration<double, std::milli> took = std::chrono::steady_clock::now() - t0;
+        worst = std::max(worst, took.count());
+        benchmark::DoNotOptimize(rec->world().stateHash());
+      }
+      state.counters[names[k]] = worst;
+    }
+  }
+}
+BENCHMARK(BM_RecordAnHourLargeGearbox)->Unit(benchmark::kSecond)->Iterations(1);
 
 }  // namespace
 

@@ -1,6 +1,7 @@
 #include "gui_test_support.hpp"
 
 #include <Qt3DExtras/Qt3DWindow>
+#include <Qt3DRender/QCamera>
 #include <Qt3DRender/QRenderCapture>
 #include <QRegularExpression>
 #include <QApplication>
@@ -11,8 +12,12 @@
 #include <QStatusBar>
 #include <QSignalSpy>
 #include <QTest>
+#include <QWheelEvent>
+#include <cmath>
 #include <memory>
 
+#include "vaw/ui/main_window.hpp"
+#include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
 
 namespace vaw::guitest {
@@ -135,6 +140,72 @@ void shot(QMainWindow* window, QWidget* widget, const QString& name) {
   QTest::qWait(150);
   const QPixmap p = widget == window ? window->screen()->grabWindow(window->winId()) : widget->grab();
   QVERIFY(p.save(shotPath(name)));
+}
+
+Eigen::Vector3d topFaceCentre(const TriMesh& m, const Eigen::Isometry3d& pose) {
+  Eigen::Vector3d best = pose.translation();
+  double bestZ = -1e300, bestArea = 0.0;
+  for (const auto& t : m.triangles) {
+    const Eigen::Vector3d a = pose * m.vertices[static_cast<std::size_t>(t[0])], b = pose * m.vertices[static_cast<std::size_t>(t[1])],
+                          c = pose * m.vertices[static_cast<std::size_t>(t[2])];
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    if (n.z() < 0.9 * n.norm()) continue;
+    const Eigen::Vector3d centre = (a + b + c) / 3.0;
+    const double area = 0.5 * n.norm();
+    if (centre.z() > bestZ + 1e-6 || (centre.z() > bestZ - 1e-6 && area > bestArea)) {
+      best = centre;
+      bestZ = centre.z();
+      bestArea = area;
+    }
+  }
+  return best;
+}
+
+void carryWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& target, const char* name) {
+  ui::Viewport* viewport = window.viewport();
+  ui::SimulationController& sim = window.simulation();
+  const auto world = [&]() -> const sim::World& { return sim.world(); };
+  const auto toQt = [](const Eigen::Vector3d& v) {
+    return QVector3D(static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()));
+  };
+  // A steep view from above that holds the part and its place, so that the parts waiting in a column do not
+  // hide each other: the hand moves on a plane facing it.
+  const Eigen::Vector3d from = world().part(id).pose.translation();
+  const Eigen::Vector3d centre = 0.5 * (from + target.translation());
+  const double distance = 0.2 + 2.0 * (target.translation() - from).norm();
+  Qt3DRender::QCamera* cam = viewport->camera();
+  cam->setViewCenter(toQt(centre));
+  cam->setPosition(toQt(centre + distance * Eigen::Vector3d(0.25, -0.6, 1.0).normalized()));
+  cam->setUpVector(QVector3D(0, 0, 1));
+  QVERIFY(!capture(viewport).isNull());
+  const QPoint p = viewport->projectToWindow(topFaceCentre(*sim.recorder().scene().assembly().parts[id].mesh, world().part(id).pose)).toPoint();
+  QVERIFY2(viewport->rect().contains(p), name);
+  pressAndDrag(viewport->view3d(), p, p + QPoint(0, -20), 4, 30);  // past the drag distance
+  QTRY_COMPARE_WITH_TIMEOUT(world().part(id).state, interact::PartState::InHand, 3000);
+  QTest::qWait(100);
+  // The hand carries the part rigidly: it must go where the part's move takes the hand.
+  const Eigen::Vector3d hand = sim.handPosition();
+  const Eigen::Vector3d wanted = hand + (target.translation() - world().part(id).pose.translation());
+  const Eigen::Vector3d eye(cam->position().x(), cam->position().y(), cam->position().z());
+  const Eigen::Vector3d view = (centre - eye).normalized();
+  // The wheel moves the hand's plane along the view by 5 % of its distance a notch.
+  const double notches = view.dot(wanted - hand) / (0.05 * view.dot(hand - eye));
+  const QPoint pointer = viewport->projectToWindow(hand).toPoint();
+  QWheelEvent wheel(QPointF(pointer), viewport->view3d()->mapToGlobal(QPointF(pointer)), QPoint(),
+                    QPoint(0, static_cast<int>(std::lround(notches * 120.0))), Qt::LeftButton, Qt::NoModifier,
+                    Qt::NoScrollPhase, false);
+  QCoreApplication::sendEvent(viewport->view3d(), &wheel);
+  QTest::qWait(50);
+  const QPoint to = viewport->projectToWindow(wanted).toPoint();
+  for (int i = 1; i <= 10; ++i) {
+    QTest::mouseMove(viewport->view3d(), pointer + (to - pointer) * i / 10);
+    QTest::qWait(25);
+  }
+  // Held still before the release, so it leaves with no speed.
+  QTest::qWait(300);
+  const double off = (world().part(id).pose.translation() - target.translation()).norm();
+  QVERIFY2(off < 0.003, qPrintable(QStringLiteral("%1 carried to %2 mm from its target").arg(QLatin1String(name)).arg(off * 1e3)));
+  QTest::mouseRelease(viewport->view3d(), Qt::LeftButton, {}, to);
 }
 
 }  // namespace vaw::guitest

@@ -16,6 +16,7 @@ class QMainWindow;
 class QWidget;
 
 namespace vaw::ui {
+class MainWindow;
 class Viewport;
 }
 
@@ -40,6 +41,15 @@ QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId part
 // As a person does it: a press at `from` and a move in `steps` to `to`, each after `msPerStep`; no release.
 void pressAndDrag(QWindow* window, const QPoint& from, const QPoint& to, int steps, int msPerStep,
                   Qt::KeyboardModifiers modifiers = {});
+// The centre of the largest of the part's highest upward-facing triangles at `pose`, in the world: a point
+// on its top, where a person takes a nut (the middle of its bounds is the hole).
+Eigen::Vector3d topFaceCentre(const TriMesh& mesh, const Eigen::Isometry3d& pose);
+// As a person carries a part: a steep view from above that holds the part and its target, a press on the
+// part's top face and a drag past the drag distance, the wheel for depth and the pointer for the rest,
+// held still and let go, so that the part is let go at `target` (it keeps its orientation). `name` is for
+// the failure messages.
+void carryWithMouse(ui::MainWindow& window, PartId part, const Eigen::Isometry3d& target, const char* name);
+
 // Types `text` into a spin box: focus, select all, the keys, Return.
 void typeInto(QAbstractSpinBox* box, const QString& text);
 

@@ -20,6 +20,7 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "gui_test_support.hpp"
 #include "vaw/paths.hpp"
@@ -87,6 +88,8 @@ class TestSimulation : public QObject {
   void pauseSingleStepAndSpeed();
   void hoistLiftsTheToolPart();
   void principalAxesAreDrawnOnRequest();
+  void partOnTheFloorIsPickedUpAndPutBackOnTheTable();
+  void shortMemoryGivesUpTheOldestSnapshotsNotTheProcess();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -651,6 +654,73 @@ void TestSimulation::principalAxesAreDrawnOnRequest() {
   screenshot(QStringLiteral("principal-axes.png"));
   QTest::mouseClick(box, Qt::LeftButton);
   QVERIFY(!box->isChecked());
+}
+
+// A part carried off the table and let go falls to the room's default floor, 0.72 m below the table's top,
+// and rests there STATIC "on the floor" (the scene tree lists the floor); taken from the floor with the
+// mouse and let go over the table, it lands on the table again.
+void TestSimulation::partOnTheFloorIsPickedUpAndPutBackOnTheTable() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  const PartId sleeve = *assembly().findPart("sleeve");
+  Eigen::AlignedBox3d table;
+  std::optional<double> floorTop;
+  for (const auto& e : assembly().environment) {
+    const Eigen::AlignedBox3d b(e.pose * e.mesh->bounds().min(), e.pose * e.mesh->bounds().max());
+    if (e.kind == "table") table = b;
+    if (e.kind == "floor") floorTop = b.max().z();
+  }
+  QVERIFY2(floorTop.has_value(), "the scene declares none: the default floor");
+  QCOMPARE(*floorTop, table.max().z() - 0.72);
+  const auto lowest = [&] {
+    double low = 1e9;
+    for (const auto& v : assembly().parts[sleeve].mesh->vertices) low = std::min(low, (world().part(sleeve).pose * v).z());
+    return low;
+  };
+  // Off the table's far edge, 5 cm above its top: let go, it falls to the floor.
+  Eigen::Isometry3d beside = world().part(sleeve).pose;
+  beside.translation() += Eigen::Vector3d(table.max().x() + 0.12 - world().part(sleeve).pose.translation().x(), 0.0, 0.05);
+  vaw::guitest::carryWithMouse(*window_, sleeve, beside, "sleeve");
+  if (QTest::currentTestFailed()) return;
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), sleeve), QStringLiteral("STATIC"), 8000);
+  QVERIFY2(std::abs(lowest() - *floorTop) < 1e-3, qPrintable(QString::number(lowest())));
+  QVERIFY(QString::fromStdString(world().transitions().back().cause).startsWith(QStringLiteral("on the floor")));
+  lookFrom(Eigen::Vector3d(table.max().x() + 1.2, -1.6, table.max().z() + 0.6), Eigen::Vector3d(table.max().x(), 0.0, *floorTop + 0.2));
+  screenshot(QStringLiteral("part-on-the-floor.png"));
+  // Back from the floor onto the table, 2 cm above it near its corner.
+  Eigen::Isometry3d back = world().part(sleeve).pose;
+  back.translation() += Eigen::Vector3d(table.max().x() - 0.15 - back.translation().x(), 0.0, table.max().z() + 0.02 - lowest());
+  vaw::guitest::carryWithMouse(*window_, sleeve, back, "sleeve");
+  if (QTest::currentTestFailed()) return;
+  QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), sleeve), QStringLiteral("STATIC"), 8000);
+  QVERIFY2(std::abs(lowest() - table.max().z()) < 1e-3, qPrintable(QString::number(lowest())));
+  QVERIFY(QString::fromStdString(world().transitions().back().cause).startsWith(QStringLiteral("hit table")));
+}
+
+// When the machine runs short of memory the recording gives up its oldest snapshots, says so in Messages and
+// the status bar, and goes on: the session is whole and seeking into the given-up past still works.
+void TestSimulation::shortMemoryGivesUpTheOldestSnapshotsNotTheProcess() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  QTRY_VERIFY_WITH_TIMEOUT(sim().recorder().snapshotCount() >= 4, 15000);
+  QSignalSpy given(&sim(), &vaw::ui::SimulationController::pastGivenUp);
+  sim().setMemoryProbe([] { return std::optional<std::size_t>(std::size_t{100} << 20); }, 100);
+  QVERIFY(given.wait(5000));
+  sim().setMemoryProbe(&vaw::ui::SimulationController::availableMemory);
+  const double before = given.first().first().toDouble();
+  QVERIFY(before > 0.0);
+  QCOMPARE(sim().recorder().snapshotSteps().front(), std::uint64_t{0});
+  const auto* messages = window_->messagesDock()->model();
+  bool said = false;
+  for (int row = 0; row < messages->rowCount(); ++row) said = said || messages->text(row).contains(QStringLiteral("Memory is short"));
+  QVERIFY2(said, "Messages says the past was given up");
+  QVERIFY(window_->statusBar()->currentMessage().contains(QStringLiteral("Memory is short")));
+  // Seeking into the given-up past replays from the start and lands where a fresh replay does.
+  sim().pause();
+  const std::uint64_t step = sim().recorder().stepAt(0.5 * before);
+  sim().seek(step);
+  QCOMPARE(sim().recorder().step(), step);
+  vaw::sim::Session upTo = sim().recorder().session();
+  upTo.inputs.resize(step);
+  QCOMPARE(vaw::sim::replay(sim().recorder().scenePtr(), upTo).stateHash(), sim().world().stateHash());
 }
 
 QTEST_MAIN(TestSimulation)

@@ -36,10 +36,6 @@ namespace {
 
 QString sampleFile() { return QFile::decodeName((vaw::resourceDir() / "step" / "bolted-bracket.stp").string().c_str()); }
 
-QVector3D toQt(const Eigen::Vector3d& v) {
-  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
-}
-
 }  // namespace
 
 class TestStep : public QObject {
@@ -68,30 +64,7 @@ class TestStep : public QObject {
   [[nodiscard]] PartState state(const char* name) const { return world().part(part(name)).state; }
   [[nodiscard]] bool messagesMention(const QString& text) const;
   void open();
-  // Grabs `name` where it is seen, carries it so that it lands at `target` (wheel for depth, the pointer
-  // for the rest) and lets go.
-  void carry(const char* name, const Eigen::Isometry3d& target);
-  // The centre of the largest of the part's highest upward-facing triangles, in the world: a point on its top.
-  [[nodiscard]] Eigen::Vector3d topFaceCentre(PartId id) const {
-    const vaw::TriMesh& m = *assembly().parts[id].mesh;
-    const Eigen::Isometry3d& pose = world().part(id).pose;
-    Eigen::Vector3d best = pose.translation();
-    double bestZ = -1e300, bestArea = 0.0;
-    for (const auto& t : m.triangles) {
-      const Eigen::Vector3d a = pose * m.vertices[static_cast<std::size_t>(t[0])], b = pose * m.vertices[static_cast<std::size_t>(t[1])],
-                            c = pose * m.vertices[static_cast<std::size_t>(t[2])];
-      const Eigen::Vector3d n = (b - a).cross(c - a);
-      if (n.z() < 0.9 * n.norm()) continue;
-      const Eigen::Vector3d centre = (a + b + c) / 3.0;
-      const double area = 0.5 * n.norm();
-      if (centre.z() > bestZ + 1e-6 || (centre.z() > bestZ - 1e-6 && area > bestArea)) {
-        best = centre;
-        bestZ = centre.z();
-        bestArea = area;
-      }
-    }
-    return best;
-  }
+  void carry(const char* name, const Eigen::Isometry3d& target) { vaw::guitest::carryWithMouse(*window_, part(name), target, name); }
   [[nodiscard]] Eigen::Isometry3d above(const char* name, double mm) const {
     Eigen::Isometry3d t = *assembly().parts[part(name)].finalPose;
     t.translation().z() += mm * 1e-3;
@@ -139,48 +112,6 @@ void TestStep::open() {
   QVERIFY(!vaw::guitest::capture(viewport()).isNull());
 }
 
-void TestStep::carry(const char* name, const Eigen::Isometry3d& target) {
-  const PartId id = part(name);
-  // A steep view from above that holds the part and its place, so that the parts waiting in a column do not
-  // hide each other: the hand moves on a plane facing it.
-  const Eigen::Vector3d from = world().part(id).pose.translation();
-  const Eigen::Vector3d centre = 0.5 * (from + target.translation());
-  const double distance = 0.2 + 1.5 * (target.translation() - from).norm();
-  Qt3DRender::QCamera* cam = viewport()->camera();
-  cam->setViewCenter(toQt(centre));
-  cam->setPosition(toQt(centre + distance * Eigen::Vector3d(0.25, -0.6, 1.0).normalized()));
-  cam->setUpVector(QVector3D(0, 0, 1));
-  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
-  // Pressed on its top face, as a person takes a nut: the middle of its bounds is the hole.
-  const QPoint p = viewport()->projectToWindow(topFaceCentre(id)).toPoint();
-  QVERIFY2(viewport()->rect().contains(p), name);
-  vaw::guitest::pressAndDrag(viewport()->view3d(), p, p + QPoint(0, -20), 4, 30);  // past the drag distance
-  QTRY_COMPARE_WITH_TIMEOUT(world().part(id).state, PartState::InHand, 3000);
-  QTest::qWait(100);
-  // The hand carries the part rigidly: it must go where the part's move takes the hand.
-  const Eigen::Vector3d hand = sim().handPosition();
-  const Eigen::Vector3d wanted = hand + (target.translation() - world().part(id).pose.translation());
-  const Eigen::Vector3d eye(cam->position().x(), cam->position().y(), cam->position().z());
-  const Eigen::Vector3d view = (centre - eye).normalized();
-  // The wheel moves the hand's plane along the view by 5 % of its distance a notch.
-  const double notches = view.dot(wanted - hand) / (0.05 * view.dot(hand - eye));
-  const QPoint pointer = viewport()->projectToWindow(hand).toPoint();
-  QWheelEvent wheel(QPointF(pointer), viewport()->view3d()->mapToGlobal(QPointF(pointer)), QPoint(),
-                    QPoint(0, static_cast<int>(std::lround(notches * 120.0))), Qt::LeftButton, Qt::NoModifier,
-                    Qt::NoScrollPhase, false);
-  QCoreApplication::sendEvent(viewport()->view3d(), &wheel);
-  QTest::qWait(50);
-  const QPoint to = viewport()->projectToWindow(wanted).toPoint();
-  for (int i = 1; i <= 10; ++i) {
-    QTest::mouseMove(viewport()->view3d(), pointer + (to - pointer) * i / 10);
-    QTest::qWait(25);
-  }
-  // Held still before the release, so it leaves with no speed.
-  QTest::qWait(300);
-  const double off = (world().part(id).pose.translation() - target.translation()).norm();
-  QVERIFY2(off < 0.003, qPrintable(QStringLiteral("%1 carried to %2 mm from its target").arg(QLatin1String(name)).arg(off * 1e3)));
-  QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, to);
-}
 
 // The sample dropped on the window as from a file manager: the tree shows the file's assembly, the part
 // panel the B-rep as the mass source.

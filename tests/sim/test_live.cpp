@@ -320,3 +320,112 @@ TEST(Sessions, Version1SessionStillReplaysBitForBit) {
   EXPECT_EQ(w.transitions()[5].step, 312u);  // t = 3.4778 s, as version 1 printed
   EXPECT_EQ(w.transitions()[6].step, 341u);  // t = 3.8 s
 }
+
+// Inputs are kept as runs of bit-identical ones: read back step by step, by index and in order, exactly as
+// they were recorded, and truncated like the vector they replace.
+TEST(InputLog, KeepsRunsOfIdenticalInputsAndReadsBackEveryStep) {
+  std::vector<Input> steps(10);
+  for (std::size_t k = 4; k < 7; ++k) steps[k].right.pose.translation().x() = 0.01 * static_cast<double>(k);
+  steps[8].hoist.height = -0.0;  // not the same bits as 0.0
+  steps[9].hoist.height = -0.0;
+  steps[7] = steps[6];
+  const InputLog log(steps);
+  EXPECT_EQ(log.size(), 10u);
+  EXPECT_EQ(log.runs(), 5u) << "steps 0-3, 4, 5, 6-7, 8-9";
+  std::size_t k = 0;
+  for (const Input& in : log) EXPECT_TRUE(identical(in, steps[k++])) << k;
+  EXPECT_EQ(k, 10u);
+  for (std::size_t i = 0; i < steps.size(); ++i) EXPECT_TRUE(identical(log[i], steps[i])) << i;
+  EXPECT_FALSE(identical(steps[7], steps[8]));
+  InputLog cut = log;
+  cut.resize(6);
+  EXPECT_EQ(cut.size(), 6u);
+  EXPECT_EQ(cut.runs(), 3u);
+  cut.push_back(steps[5]);
+  EXPECT_EQ(cut.runs(), 3u) << "the same as the last step: the run grows";
+  EXPECT_TRUE(identical(cut.back(), steps[5]));
+  EXPECT_THROW((void)log[10], std::out_of_range);
+}
+
+// Eleven minutes recorded: a snapshot every second of the last ten minutes and every tenth second before;
+// a seek anywhere still equals a fresh replay, and so it does after the oldest snapshots are given up (a seek
+// then replays from the start).
+TEST(Recorder, ThinsOldSnapshotsAndGivesUpTheOldestWhenAsked) {
+  const auto scene = bundled("sleeve-on-shaft.vaw.json");
+  Settings settings;
+  const auto script = sleeveScript(settings);
+  Recorder rec(scene, settings, "sleeve-on-shaft.vaw.json");
+  const std::uint64_t interval = rec.snapshotInterval();
+  const std::uint64_t total = 660 * interval;  // eleven minutes
+  std::vector<std::uint64_t> hashes;
+  for (std::uint64_t i = 0; i < total; ++i) {
+    rec.record(script[i % script.size()]);
+    hashes.push_back(rec.world().stateHash());
+  }
+  std::vector<std::uint64_t> expected;
+  for (std::uint64_t k = 0; k <= 660; ++k)
+    if (Recorder::keeps(k, 660)) expected.push_back(k * interval);
+  EXPECT_EQ(rec.snapshotSteps(), expected);
+  // The last ten minutes' 600 (61 s to 660 s) and 0, 10, ..., 60 s before them.
+  EXPECT_EQ(expected.size(), 600u + 7u);
+  const auto seekAll = [&](const char* when) {
+    for (const std::uint64_t n : {total - 1, std::uint64_t{1}, 29 * interval + 89, 59 * interval + 89, 95 * interval + 7, 299 * interval + 89, 620 * interval, total / 2}) {
+      rec.seek(n);
+      EXPECT_EQ(rec.world().stateHash(), hashes[n - 1]) << "step " << n << ", " << when;
+      // And on from there as recorded: the models restored (histories, hinges, flights), not only the poses.
+      for (std::uint64_t k = n; k < std::min(n + 300, total); ++k) {
+        ASSERT_TRUE(rec.playNext());
+        ASSERT_EQ(rec.world().stateHash(), hashes[k]) << "step " << k + 1 << " after a seek to " << n << ", " << when;
+      }
+    }
+  };
+  seekAll("thinned");
+  const std::size_t before = rec.memoryBytes();
+  const std::uint64_t slowBefore = rec.giveUpOldest(0);  // as little as it can hold
+  EXPECT_EQ(rec.snapshotSteps(), (std::vector<std::uint64_t>{0, total})) << "the first stays (the recording stays whole), and the newest";
+  EXPECT_EQ(slowBefore, total);
+  EXPECT_LT(rec.memoryBytes(), before);
+  seekAll("after giving up the oldest");
+  rec.seek(total);
+  EXPECT_TRUE(rec.atEnd());
+}
+
+// Snapshots share each part's state while it does not change: restoring any of them and playing on gives
+// the recorded steps bit for bit in every model (a gear swinging on its shaft, a tray on the hoist), not
+// only in the sleeve's slide.
+TEST(Recorder, SharedSnapshotsRestoreEveryModel) {
+  const auto check = [](const std::shared_ptr<const Scene>& scene, const std::vector<Input>& inputs, const char* what) {
+    Recorder rec(scene, Settings{}, "scene");
+    std::vector<std::uint64_t> hashes;
+    for (const Input& in : inputs) {
+      rec.record(in);
+      hashes.push_back(rec.world().stateHash());
+    }
+    const std::uint64_t interval = rec.snapshotInterval();
+    for (std::uint64_t n = interval / 2; n < inputs.size(); n += interval) {
+      rec.seek(n);
+      ASSERT_EQ(rec.world().stateHash(), hashes[n - 1]) << what << ", step " << n;
+      for (std::uint64_t k = n; k < std::min<std::uint64_t>(n + interval, inputs.size()); ++k) {
+        ASSERT_TRUE(rec.playNext());
+        ASSERT_EQ(rec.world().stateHash(), hashes[k]) << what << ", step " << k + 1 << " after a seek to " << n;
+      }
+    }
+  };
+  {
+    const auto scene = bundled("gear-on-shaft.vaw.json");
+    const Part& g = scene->assembly().parts[*scene->assembly().findPart("gear")];
+    // Let go 20 degrees off hanging on its shaft: it swings for the rest of the recording.
+    const Eigen::Isometry3d release = simtest::rotAbout(Eigen::Vector3d::UnitX(), 20.0 * std::numbers::pi / 180.0,
+                                                        Eigen::Vector3d(0, 0, 0.15)) * *g.finalPose;
+    std::vector<Input> inputs(900);
+    inputs[0].left = simtest::hand(g.pose, true);
+    inputs[1].left = simtest::hand(release, true);
+    for (std::size_t k = 2; k < inputs.size(); ++k) inputs[k].left = simtest::hand(release, false);
+    check(scene, inputs, "gear");
+  }
+  {
+    Settings settings;
+    const auto inputs = loadInputScript(std::filesystem::path(VAW_SOURCE_DIR) / "tests/sim/scripts/hoist-demo.vaw-inputs.json", settings);
+    check(bundled("hoist-demo.vaw.json"), inputs, "hoist");
+  }
+}

@@ -243,6 +243,23 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     updateStatus();
   });
   connect(simulation_, &SimulationController::speedChanged, this, &MainWindow::updateStatus);
+  connect(simulation_, &SimulationController::pastGivenUp, this, [this](double before) {
+    const QString text = tr("Memory is short: the recording gave up its snapshots before %1 s").arg(format::number(before, 4));
+    message(static_cast<int>(MessageLogModel::Severity::Warning), text,
+            tr("The whole session is still recorded and can be saved, but seeking to a time before %1 s now replays it "
+               "from the start, which takes longer (docs/simulation.md, \"The recorder: record, seek, discard\").")
+                .arg(format::number(before, 4)));
+    statusBar()->showMessage(text, 10000);
+  });
+  connect(simulation_, &SimulationController::behindChanged, this, [this](bool behind) {
+    updateStatus();
+    if (!behind || blinded_) return;
+    message(static_cast<int>(MessageLogModel::Severity::Warning),
+            tr("The simulation cannot keep up with real time: %1").arg(rateText()),
+            tr("Simulated time runs slower than the wall clock, so a part falls and slides slower than it would. "
+               "Close panels you do not need, make the window smaller, or lower the rate (docs/simulation.md, "
+               "\"When the simulation falls behind\")."));
+  });
   connect(timelineDock_->view(), &TimelineView::seekRequested, this, [this](double seconds) {
     if (simulation_->hasWorld()) simulation_->seek(simulation_->recorder().stepAt(seconds));
   });
@@ -859,12 +876,23 @@ QString MainWindow::statusText() const {
   if (blinded_) return tr("trials session · %1").arg(mode);
   if (simulation_->isPlayback()) mode += tr(", playback");
   else if (simulation_->inPast()) mode += tr(", in the past");
-  return tr("t %1 s · step %2 µs · %3 active · %4× · %5")
+  const QString speed = simulation_->isBehind() ? rateText() : tr("%1×").arg(format::number(simulation_->speed(), 2));
+  return tr("t %1 s · step %2 µs · %3 active · %4 · %5")
       .arg(QString::number(w.time(), 'f', 3))
       .arg(QString::number(static_cast<double>(simulation_->lastStepNanoseconds()) * 1e-3, 'f', 1))
       .arg(w.activeParts())
-      .arg(format::number(simulation_->speed(), 2))
+      .arg(speed)
       .arg(mode);
+}
+
+QString MainWindow::rateText() const {
+  const auto r = simulation_->realRate();
+  if (!r) return tr("%1×").arg(format::number(simulation_->speed(), 2));
+  // Stepping takes most of the wall time: the physics; otherwise what else the thread does, drawing above all.
+  const QString neck = r->steppingShare > 0.5 ? tr("the physics is the bottleneck") : tr("rendering is the bottleneck");
+  QString text = tr("%1× of real time").arg(QString::number(r->rate, 'f', 2));
+  if (std::abs(simulation_->speed() - 1.0) > 1e-9) text += tr(" (%1× asked)").arg(format::number(simulation_->speed(), 2));
+  return text + tr(", %1").arg(neck);
 }
 
 void MainWindow::updateStatus() { status_->setText(statusText()); }

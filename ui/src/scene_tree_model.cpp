@@ -4,6 +4,7 @@
 #include <QStyle>
 
 #include "format.hpp"
+#include "vaw/sim/scene.hpp"
 
 namespace vaw::ui {
 
@@ -61,7 +62,9 @@ int SceneTreeModel::add(const vaw::Assembly& assembly, const vaw::TreeNode& node
       break;
     case Kind::Environment:
       if (node.index < assembly.environment.size()) {
-        item.category = format::str(assembly.environment[node.index].kind);
+        const vaw::EnvironmentObject& e = assembly.environment[node.index];
+        item.category = e.implied ? tr("floor (default: %1 m below the table's top)").arg(format::number(vaw::sim::kDefaultFloorDepth, 2))
+                                  : format::str(e.kind);
         describeCollision(item, vaw::collision::ObjectId::environment(node.index));
       }
       break;

@@ -1,5 +1,7 @@
 #include "vaw/ui/simulation_controller.hpp"
 
+#include <QFile>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -134,12 +136,14 @@ void SimulationController::setExternalPacing(bool on) {
   externalPacing_ = on;
   lastTickNs_ = clock_.nsecsElapsed();
   accumulator_ = 0.0;
+  restartRate();
 }
 
 void SimulationController::advance(int steps) {
   if (!recorder_ || !isPlaying()) return;
   runSteps(steps);
   if (steps > 0) publish();
+  meterRate();
 }
 
 void SimulationController::requestEdit(const vaw::sim::Edit& edit) {
@@ -180,13 +184,66 @@ void SimulationController::play() {
   lastTickNs_ = clock_.nsecsElapsed();
   accumulator_ = 0.0;
   timer_.start();
+  restartRate();
   emit playingChanged(true);
 }
 
 void SimulationController::pause() {
   if (!isPlaying()) return;
   timer_.stop();
+  restartRate();
   emit playingChanged(false);
+}
+
+void SimulationController::restartRate() {
+  rateMeter_.reset();
+  steppingNs_ = 0;
+  if (behind_) {
+    behind_ = false;
+    emit behindChanged(false);
+  }
+}
+
+std::optional<std::size_t> SimulationController::availableMemory() {
+  QFile info(QStringLiteral("/proc/meminfo"));
+  if (!info.open(QIODevice::ReadOnly | QIODevice::Text)) return std::nullopt;
+  while (!info.atEnd()) {
+    const QByteArray line = info.readLine();
+    if (!line.startsWith("MemAvailable:")) continue;
+    bool ok = false;
+    const qulonglong kb = line.mid(13).trimmed().split(' ').value(0).toULongLong(&ok);
+    if (ok) return static_cast<std::size_t>(kb) * 1024;
+  }
+  return std::nullopt;
+}
+
+void SimulationController::setMemoryProbe(MemoryProbe probe, int intervalMs) {
+  memoryProbe_ = std::move(probe);
+  memoryCheckNs_ = static_cast<qint64>(intervalMs) * 1'000'000;
+  lastMemoryCheckNs_ = clock_.nsecsElapsed();
+}
+
+void SimulationController::checkMemory() {
+  const qint64 now = clock_.nsecsElapsed();
+  if (!recorder_ || !memoryProbe_ || now - lastMemoryCheckNs_ < memoryCheckNs_) return;
+  lastMemoryCheckNs_ = now;
+  const auto available = memoryProbe_();
+  if (!available || *available >= kLowMemory) return;
+  const std::uint64_t step = recorder_->giveUpOldest(recorder_->memoryBytes() / 2);
+  if (step > 0) emit pastGivenUp(recorder_->timeAt(step));
+}
+
+void SimulationController::meterRate() {
+  if (!recorder_ || !isPlaying()) return;
+  checkMemory();
+  rateMeter_.sample(static_cast<double>(clock_.nsecsElapsed()) * 1e-9, recorder_->world().time(), static_cast<double>(steppingNs_) * 1e-9);
+  steppingNs_ = 0;
+  const auto reading = rateMeter_.reading();
+  if (!reading) return;
+  const bool behind = vaw::sim::fallingBehind(*reading, speed_, behind_);
+  if (behind == behind_) return;
+  behind_ = behind;
+  emit behindChanged(behind_);
 }
 
 void SimulationController::togglePlay() { isPlaying() ? pause() : play(); }
@@ -202,6 +259,7 @@ void SimulationController::setSpeed(double speed) {
   speed = std::clamp(speed, kMinSpeed, kMaxSpeed);
   if (speed == speed_) return;
   speed_ = speed;
+  restartRate();
   emit speedChanged(speed_);
 }
 
@@ -275,6 +333,7 @@ void SimulationController::tick() {
   }
   runSteps(n);
   if (n > 0) publish();
+  meterRate();
 }
 
 void SimulationController::runSteps(int n) {
@@ -393,6 +452,7 @@ void SimulationController::stepOnceNow() {
     recorder_->record(in);
   }
   lastStepNs_ = cost.nsecsElapsed();
+  steppingNs_ += lastStepNs_;
   reportNews(transitions, refusals);
 }
 

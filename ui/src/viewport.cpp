@@ -207,7 +207,7 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
       setColor(material, toQColor(d.color));
       entity->addComponent(material);
       const Eigen::AlignedBox3d box = worldBox(d.mesh->bounds, d.pose);
-      allBounds_.extend(box);
+      allBounds_.extend(vaw::view::boundsOf(d));
       if (d.kind == vaw::view::DrawableKind::Environment) {
         material->setSpecular(QColor(20, 20, 20));
         material->setShininess(10.0f);

@@ -61,6 +61,9 @@ struct EnvironmentObject {
   std::string shapeSource;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   Eigen::Vector3f color{0.55f, 0.45f, 0.35f};
+  // The room's floor a scene did not declare (sim::addDefaultFloor): not part of the scene's content hash,
+  // so that sessions recorded before there was a floor still match their scene.
+  bool implied = false;
 };
 
 struct Plane { Eigen::Vector3d point; Eigen::Vector3d normal; };  // normal unit length

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <unordered_set>
 
 namespace vaw::sim {
 
@@ -35,14 +36,56 @@ const std::vector<EditRecord>& Recorder::edits() const { return pastLogs_ ? edit
 void Recorder::advance(const Input& input) {
   nextEdit_ = applyEdits(world_, session_, nextEdit_);
   world_.step(input);
-  if (world_.stepCount() % interval_ == 0 && world_.stepCount() / interval_ == snapshots_.size())
-    snapshots_.push_back(world_.snapshot());
+  if (world_.stepCount() % interval_ == 0 && snapshots_.back().step() < world_.stepCount()) keepSnapshot();
   if (atEnd()) {
     // The edits recorded after the last step (applied, but no step ran with them yet).
     nextEdit_ = applyEdits(world_, session_, nextEdit_);
     endTime_ = world_.time();
     pastLogs_ = false;
   }
+}
+
+void Recorder::keepSnapshot() {
+  snapshots_.push_back(world_.snapshot());
+  // The one that has just grown ten minutes old goes unless it is on a tenth-second mark.
+  const std::uint64_t now = world_.stepCount() / interval_;
+  if (now < kRecent || keeps(now - kRecent, now)) return;
+  const std::uint64_t step = (now - kRecent) * interval_;
+  const auto it = std::lower_bound(snapshots_.begin(), snapshots_.end(), step,
+                                   [](const Snapshot& s, std::uint64_t at) { return s.step() < at; });
+  if (it != snapshots_.end() && it->step() == step) snapshots_.erase(it);
+}
+
+std::vector<std::uint64_t> Recorder::snapshotSteps() const {
+  std::vector<std::uint64_t> steps;
+  steps.reserve(snapshots_.size());
+  for (const Snapshot& s : snapshots_) steps.push_back(s.step());
+  return steps;
+}
+
+std::size_t Recorder::memoryBytes() const {
+  std::size_t bytes = session_.inputs.bytes() + session_.edits.capacity() * sizeof(EditRecord) + snapshots_.capacity() * sizeof(Snapshot);
+  std::unordered_set<const void*> counted;
+  for (const Snapshot& s : snapshots_) bytes += s.bytes(counted);
+  return bytes;
+}
+
+std::uint64_t Recorder::giveUpOldest(std::size_t targetBytes) {
+  // Snapshots share what did not change, so what dropping one frees is only known afterwards: drop by the
+  // average and measure again.
+  std::size_t dropped = 0;
+  for (int round = 0; round < 8; ++round) {
+    const std::size_t bytes = memoryBytes();
+    const std::size_t droppable = snapshots_.size() > 2 ? snapshots_.size() - 2 : 0;  // never the first or the newest
+    if (bytes <= targetBytes || droppable == 0) break;
+    const std::size_t average = std::max<std::size_t>(1, bytes / snapshots_.size());
+    const std::size_t n = std::clamp<std::size_t>((bytes - targetBytes + average - 1) / average, 1, droppable);
+    snapshots_.erase(snapshots_.begin() + 1, snapshots_.begin() + 1 + static_cast<std::ptrdiff_t>(n));
+    dropped += n;
+  }
+  if (dropped == 0) return 0;
+  snapshots_.shrink_to_fit();
+  return snapshots_[1].step();
 }
 
 void Recorder::record(const Input& input) {
@@ -81,8 +124,9 @@ void Recorder::seek(std::uint64_t n) {
   if (n == step()) return;
   keepTimeline();
   // From the nearest snapshot at or before n, unless the world is already between it and n.
-  const std::uint64_t k = std::min<std::uint64_t>(n / interval_, snapshots_.size() - 1);
-  const Snapshot& s = snapshots_[k];
+  const auto after = std::upper_bound(snapshots_.begin(), snapshots_.end(), n,
+                                      [](std::uint64_t step, const Snapshot& s) { return step < s.step(); });
+  const Snapshot& s = *std::prev(after);
   if (!(step() >= s.step() && step() < n)) {
     world_.restore(s);
     // The session's edits are the world's, in order: those the snapshot holds are done.
@@ -124,7 +168,7 @@ void Recorder::discardFuture() {
   session_.inputs.resize(n);
   // Edits at step n that the world has applied stay (they are the present); later ones go.
   session_.edits.resize(std::min(session_.edits.size(), world_.edits().size()));
-  snapshots_.resize(std::min<std::size_t>(snapshots_.size(), n / interval_ + 1));
+  while (snapshots_.size() > 1 && snapshots_.back().step() > n) snapshots_.pop_back();
   nextEdit_ = session_.edits.size();
   endTime_ = world_.time();
   pastLogs_ = false;

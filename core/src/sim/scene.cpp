@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "vaw/hash.hpp"
+#include "vaw/primitives.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace vaw::sim {
@@ -39,7 +40,8 @@ std::uint64_t hashOf(const Assembly& a) {
   for (const auto& [id, f] : a.settings.partFriction)
     h = add(add(add(add(h, static_cast<double>(id)), f.staticFriction), f.kineticFriction), f.rotationalFriction);
   h = add(h, a.base ? static_cast<double>(*a.base) : -1.0);
-  for (const EnvironmentObject& e : a.environment) h = add(add(add(h, e.name), e.mesh.get()), e.pose);
+  for (const EnvironmentObject& e : a.environment)
+    if (!e.implied) h = add(add(add(h, e.name), e.mesh.get()), e.pose);
   for (const Constraint& c : a.constraints) {
     h = add(add(h, static_cast<double>(c.type)), static_cast<double>(c.part));
     if (c.partner) h = add(h, static_cast<double>(*c.partner));
@@ -56,6 +58,36 @@ std::uint64_t hashOf(const Assembly& a) {
 
 }  // namespace
 
+void addDefaultFloor(Assembly& a) {
+  for (const EnvironmentObject& e : a.environment)
+    if (e.kind == "floor") return;
+  Eigen::AlignedBox3d tables;
+  for (const EnvironmentObject& e : a.environment) {
+    if (e.kind != "table" || !e.mesh) continue;
+    const Eigen::AlignedBox3d b = e.mesh->bounds();
+    for (int c = 0; c < 8; ++c) tables.extend(e.pose * b.corner(static_cast<Eigen::AlignedBox3d::CornerType>(c)));
+  }
+  const Eigen::AlignedBox3d all = a.worldBounds();
+  if (all.isEmpty()) return;
+  const double top = (tables.isEmpty() ? all.min().z() : tables.max().z()) - kDefaultFloorDepth;
+  const Eigen::Vector3d centre = tables.isEmpty() ? all.center() : tables.center();
+  constexpr double thickness = 0.1;
+  EnvironmentObject floor;
+  floor.name = "floor";
+  floor.kind = "floor";
+  floor.implied = true;
+  floor.mesh = std::make_shared<const TriMesh>(primitives::box({kDefaultFloorSize, kDefaultFloorSize, thickness}));
+  floor.shapeSource = "box";
+  floor.pose.translation() = Eigen::Vector3d(centre.x(), centre.y(), top - 0.5 * thickness);
+  floor.color = Eigen::Vector3f(0.62f, 0.62f, 0.60f);
+  a.environment.push_back(std::move(floor));
+  TreeNode node;
+  node.kind = TreeNode::Kind::Environment;
+  node.name = "floor";
+  node.index = a.environment.size() - 1;
+  a.tree.children.push_back(std::move(node));
+}
+
 std::string hashText(std::uint64_t hash) {
   char buf[17];
   std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash));
@@ -67,6 +99,7 @@ Scene::Scene(Assembly assembly, collision::CollisionWorld collision)
 
 std::shared_ptr<const Scene> Scene::build(Assembly assembly, const ProgressFn& progress) {
   if (progress && !progress(0.0, "collision geometry")) throw LoadCancelled();
+  addDefaultFloor(assembly);
   collision::CollisionWorld world(assembly);
   for (const auto& d : world.diagnostics()) assembly.warnings.push_back(d);
   std::shared_ptr<Scene> scene(new Scene(std::move(assembly), std::move(world)));

@@ -48,6 +48,8 @@ World::Impl::Impl(std::shared_ptr<const Scene> s, Settings st)
   parts.resize(assembly.parts.size());
   models.resize(assembly.parts.size());
   dirty.assign(assembly.parts.size(), 0);
+  slots.resize(assembly.parts.size());
+  touched.assign(assembly.parts.size(), 1);
   ownMoves.assign(assembly.parts.size(), 0);
   for (std::size_t i = 0; i < parts.size(); ++i) {
     parts[i].id = i;
@@ -96,6 +98,7 @@ bool World::Impl::fireEvent(PartId id, Event e, interact::Hands hands, const std
   ctx.hands = hands;
   if (e == Event::ConstraintRecognized || e == Event::ReachedFinalLocation) ctx.unplacedPartner = unplacedPartner(id);
   PartRuntime& p = parts[id];
+  touched[id] = 1;
   const interact::Outcome o = interact::fire(p.state, e, ctx);
   if (!o.accepted) {
     refusals.push_back({stepIndex, endOfStep(), id, p.state, e, o.reason});
@@ -107,6 +110,7 @@ bool World::Impl::fireEvent(PartId id, Event e, interact::Hands hands, const std
 }
 
 void World::Impl::setPose(PartId id, const Eigen::Isometry3d& pose) {
+  touched[id] = 1;
   if (!(pose.matrix() == parts[id].pose.matrix())) {
     ++moves;
     ++ownMoves[id];
@@ -138,6 +142,7 @@ void World::Impl::moveBase(const std::optional<Eigen::Isometry3d>& pose) {
     ++moves;
     basePose = *pose;
     parts[*base].pose = basePose;
+    touched[*base] = 1;
     collision.setPose(collision::ObjectId::part(*base), basePose);
   }
   // Acceleration of the base's origin from its last three positions (second difference).
@@ -189,6 +194,9 @@ void World::Impl::step(const Input& in) {
   for (const PartId id : awake) {
     PartRuntime& r = parts[id];
     PartModel& m = models[id];
+    // A part whose model steps may change it; one that only rides the base changes by its pose (setPose).
+    if (r.state != PartState::Placed && (r.state != PartState::OnBaseStatic || def(id).category.category == Category::OneHand))
+      touched[id] = 1;
     switch (r.state) {
       case PartState::InHand: {
         ++active;
@@ -261,6 +269,7 @@ std::string World::Impl::apply(const Edit& e) {
   // A hinge holds its viscous friction: give it the (possibly new) value of its part.
   for (PartId id = 0; id < parts.size(); ++id)
     if (models[id].hinge) models[id].hinge->setFriction(friction(id).rotationalFriction);
+  std::fill(touched.begin(), touched.end(), 1);
   edits.push_back({stepIndex, t, e});
   return {};
 }
@@ -291,15 +300,39 @@ Snapshot World::Impl::snapshot() {
     sealedRefusals = refusals.size();
     sealedEdits = edits.size();
   }
+  for (PartId id = 0; id < parts.size(); ++id) {
+    if (!touched[id] && slots[id]) continue;
+    slots[id] = std::make_shared<const PartSlot>(PartSlot{parts[id], models[id]});
+    touched[id] = 0;
+  }
+  auto stored = std::make_shared<Snapshot::Stored>();
+  // The state without the parts and models, which the slots hold.
+  std::vector<PartRuntime> liveParts = std::move(parts);
+  std::vector<PartModel> liveModels = std::move(models);
+  parts.clear();
+  models.clear();
+  stored->state = static_cast<const Snapshot::State&>(*this);
+  parts = std::move(liveParts);
+  models = std::move(liveModels);
+  stored->slots = slots;
   Snapshot s;
-  s.state_ = std::make_shared<const Snapshot::State>(static_cast<const Snapshot::State&>(*this));
+  s.stored_ = std::move(stored);
   return s;
 }
 
 void World::Impl::restore(const Snapshot& s) {
-  if (!s.state_) throw std::invalid_argument("World::restore: an empty snapshot");
-  if (s.state_->parts.size() != parts.size()) throw std::invalid_argument("World::restore: a snapshot of another scene");
-  static_cast<Snapshot::State&>(*this) = *s.state_;
+  if (!s.stored_) throw std::invalid_argument("World::restore: an empty snapshot");
+  if (s.stored_->slots.size() != parts.size()) throw std::invalid_argument("World::restore: a snapshot of another scene");
+  const std::size_t n = parts.size();
+  static_cast<Snapshot::State&>(*this) = s.stored_->state;
+  parts.resize(n);
+  models.resize(n);
+  for (PartId id = 0; id < n; ++id) {
+    parts[id] = s.stored_->slots[id]->runtime;
+    models[id] = s.stored_->slots[id]->model;
+  }
+  slots = s.stored_->slots;
+  std::fill(touched.begin(), touched.end(), 0);
   std::vector<const LogChunk*> chain;
   for (const LogChunk* c = sealed.get(); c != nullptr; c = c->previous.get()) chain.push_back(c);
   transitions.clear();
@@ -333,8 +366,20 @@ std::uint64_t World::Impl::hash() const {
 
 // ---- the public API ----
 
-std::uint64_t Snapshot::step() const { return state_ ? state_->stepIndex : 0; }
-double Snapshot::time() const { return state_ ? state_->t : 0.0; }
+std::uint64_t Snapshot::step() const { return stored_ ? stored_->state.stepIndex : 0; }
+double Snapshot::time() const { return stored_ ? stored_->state.t : 0.0; }
+
+std::size_t Snapshot::bytes(std::unordered_set<const void*>& counted) const {
+  if (!stored_) return 0;
+  const State& s = stored_->state;
+  std::size_t bytes = sizeof(Stored) + stored_->slots.capacity() * sizeof(stored_->slots.front()) +
+                      s.overrides.capacity() * sizeof(s.overrides.front()) + s.ownMoves.capacity() * sizeof(std::uint64_t) +
+                      s.materials.size() * (sizeof(std::string) + sizeof(FrictionValues) + 64);
+  for (const auto& slot : stored_->slots)
+    if (counted.insert(slot.get()).second)
+      bytes += sizeof(PartSlot) + 16 + slot->model.history.capacity() * sizeof(interact::PoseSample);  // 16: the shared count
+  return bytes;
+}
 
 World::World(std::shared_ptr<const Scene> scene, Settings settings)
     : impl_(std::make_unique<Impl>(std::move(scene), settings)) {}

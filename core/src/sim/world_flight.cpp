@@ -27,6 +27,9 @@ void World::Impl::enterFlight(PartId id, const Eigen::Vector3d& v, const Eigen::
   // The flight time to the highest environment surface below the part.
   double zHit = -std::numeric_limits<double>::infinity();
   for (std::size_t e = 0; e < assembly.environment.size(); ++e) {
+    // Not the default floor: a flight off the table chose its rotation model before there was one, and
+    // recorded sessions replay so until the part reaches the floor.
+    if (assembly.environment[e].implied) continue;
     const double top = collision.worldBounds(collision::ObjectId::environment(e)).max().z();
     if (top < m.release.position.z()) zHit = std::max(zHit, top);
   }
@@ -94,8 +97,10 @@ void World::Impl::stepFlight(PartId id, double t0, double t1) {
     r.velocity.setZero();
     r.angularVelocity.setZero();
     r.model = Model::None;
+    const bool floor = ev.other && ev.other->kind == collision::ObjectId::Kind::Environment &&
+                       assembly.environment[ev.other->index].kind == "floor";
     fireEvent(id, Event::HitEnvironment, interact::Hands::None,
-              "hit " + objectName(ev.other) + fmt(" at t=%.6f s, speed %.4f m/s", ev.s, vHit.norm()));
+              (floor ? "on the floor: hit " : "hit ") + objectName(ev.other) + fmt(" at t=%.6f s, speed %.4f m/s", ev.s, vHit.norm()));
     return;
   }
   setPose(id, motion.pose(t1));

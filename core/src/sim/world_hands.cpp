@@ -94,6 +94,9 @@ void World::Impl::letGo(PartId id, bool tool, interact::Hands hands, const HandI
   PartRuntime& r = parts[id];
   PartModel& m = models[id];
   r.holder = Holder::None;
+  // Read once, here, for the release: kept on, every snapshot of the recording would carry it.
+  const std::vector<interact::PoseSample> history = std::move(m.history);
+  m.history = {};
   Eigen::Isometry3d snapped;
   if (atFinalPose(id, snapped)) {
     const Eigen::Isometry3d before = r.pose;
@@ -135,7 +138,7 @@ void World::Impl::letGo(PartId id, bool tool, interact::Hands hands, const HandI
     tw.linear = hand->velocity->linear + tw.angular.cross(lever);
     source = ", measured by the hand's tracker";
   } else {
-    tw = interact::releaseVelocity(m.history, settings.release);
+    tw = interact::releaseVelocity(history, settings.release);
   }
   const std::string cause = fmt("v=(%.4f, %.4f, %.4f) m/s", tw.linear.x(), tw.linear.y(), tw.linear.z()) + source;
   if (!fireEvent(id, Event::Release, hands, cause)) return;

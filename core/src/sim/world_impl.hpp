@@ -115,6 +115,17 @@ struct Snapshot::State {
   std::size_t sealedTransitions = 0, sealedRefusals = 0, sealedEdits = 0;
 };
 
+// One part's state as a snapshot holds it, shared by the snapshots in which it did not change.
+struct PartSlot {
+  PartRuntime runtime;
+  PartModel model;
+};
+
+struct Snapshot::Stored {
+  State state;  // without parts and models: those are the slots
+  std::vector<std::shared_ptr<const PartSlot>> slots;
+};
+
 struct World::Impl : Snapshot::State {
   std::shared_ptr<const Scene> scene;
   const Assembly& assembly;
@@ -133,6 +144,11 @@ struct World::Impl : Snapshot::State {
   std::vector<PartId> dirtyList;
   std::vector<PartId> awake;
   std::size_t awakeStamp = static_cast<std::size_t>(-1);  // transitions.size() when `awake` was made
+  // Per part: its state in the last snapshot, and whether anything may have written to it since (an event,
+  // a pose, a step of its model, an edit). Marking is conservative: an unmarked part is unchanged, so the
+  // next snapshot shares its slot.
+  std::vector<std::shared_ptr<const PartSlot>> slots;
+  std::vector<char> touched;
 
   Impl(std::shared_ptr<const Scene> s, Settings settings);
 

@@ -31,6 +31,13 @@ constexpr double kDropDepth = 20.0;
 
 }  // namespace
 
+Eigen::AlignedBox3d boundsOf(const Drawable& d) {
+  const Eigen::AlignedBox3d box = worldBox(d.mesh ? d.mesh->bounds : Eigen::AlignedBox3d(), d.pose);
+  if (!d.backdrop || box.isEmpty()) return box;
+  const Eigen::Vector3d top(box.center().x(), box.center().y(), box.max().z());
+  return Eigen::AlignedBox3d(top, top);
+}
+
 std::shared_ptr<const MeshBuffer> flatShaded(const TriMesh& mesh) {
   auto out = std::make_shared<MeshBuffer>();
   out->vertices.reserve(mesh.triangles.size() * 3 * kFloatsPerVertex);
@@ -90,7 +97,8 @@ SceneDescription describe(const Assembly& assembly) {
     dr.mesh = bufferOf(*e.mesh);
     dr.color = toRgb(e.color);
     dr.pose = e.pose;
-    d.allBounds.extend(worldBox(dr.mesh->bounds, e.pose));
+    dr.backdrop = e.implied;
+    d.allBounds.extend(boundsOf(dr));
     d.drawables.push_back(std::move(dr));
   }
   d.hoists = assembly.hoists;

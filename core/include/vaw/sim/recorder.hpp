@@ -4,6 +4,13 @@
 // periodic snapshot at or before it and replaying the recorded inputs and edits from there; recording
 // from a step in the past first discards the recorded future. The workbench's SimulationController owns
 // one; the timeline view scrubs it; `vaw SESSION --at` seeks it.
+//
+// Hours at the workbench (docs/simulation.md, "The recorder"): snapshots share each part's state while it
+// does not change; one is kept every second of the last ten minutes and every tenth second before, so a
+// seek replays at most ten seconds; and the inputs are
+// stored as runs of identical ones (InputLog). When memory runs short, giveUpOldest() drops the oldest
+// snapshots (never the first): the recording stays whole and replayable, only seeking into that past
+// replays from further back.
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -53,9 +60,24 @@ class Recorder {
   // Drops everything recorded after the world's current step.
   void discardFuture();
 
-  // Steps between snapshots (one second of simulated time at the initial rate).
+  // Steps between snapshots (one second of simulated time at the initial rate). Every snapshot of the last
+  // kRecent intervals is kept, every kSparseEvery-th before them, and the first.
+  static constexpr std::uint64_t kRecent = 600, kSparseEvery = 10;
+  // Whether the snapshot at interval `k` is kept when the newest is at interval `now`.
+  [[nodiscard]] static bool keeps(std::uint64_t k, std::uint64_t now) {
+    return k == 0 || now - k < kRecent || k % kSparseEvery == 0;
+  }
   [[nodiscard]] std::uint64_t snapshotInterval() const { return interval_; }
   [[nodiscard]] std::size_t snapshotCount() const { return snapshots_.size(); }
+  // The steps of the snapshots held, ascending (the first is step 0).
+  [[nodiscard]] std::vector<std::uint64_t> snapshotSteps() const;
+
+  // Heap bytes the recording holds: its inputs, edits and snapshots (the world's live state not counted).
+  [[nodiscard]] std::size_t memoryBytes() const;
+  // Drops the oldest snapshots but the first until memoryBytes() is at most `targetBytes` (or only the first
+  // and the newest remain). Returns the step before which seeking now replays from further back (0 when
+  // nothing was dropped).
+  std::uint64_t giveUpOldest(std::size_t targetBytes);
 
  private:
   void advance(const Input& input);  // one step of the world, with the session's edits for it
@@ -64,7 +86,8 @@ class Recorder {
   Session session_;
   World world_;
   std::uint64_t interval_ = 90;
-  std::vector<Snapshot> snapshots_;  // snapshots_[k] is at step k * interval_
+  void keepSnapshot();               // at a multiple of interval_: take one, thin the older ones
+  std::vector<Snapshot> snapshots_;  // ascending steps, each a multiple of interval_, the first at step 0
   std::size_t nextEdit_ = 0;         // first session edit not yet applied to the world
   double endTime_ = 0.0;
   // The whole recording's logs, valid while the world is before the end.

@@ -18,10 +18,19 @@
 
 namespace vaw::sim {
 
+// A scene that declares no floor gets one a desk's height below its table's top (below its lowest point
+// when it has no table), so that a part thrown off the table comes to rest instead of falling forever
+// (docs/physics.md, "The floor").
+inline constexpr double kDefaultFloorDepth = 0.72;  // m below the table's top
+inline constexpr double kDefaultFloorSize = 20.0;   // m, square, centred under the scene
+// Adds the default floor (an environment object of kind "floor", `implied`, with its tree node) unless
+// the assembly has an environment object of kind "floor". Scene::build calls it.
+void addDefaultFloor(Assembly& assembly);
+
 class Scene {
  public:
-  // Builds the collision geometry and the supports. The collision geometry's problems join the
-  // assembly's warnings. `progress` may cancel (vaw::LoadCancelled).
+  // Adds the default floor, builds the collision geometry and the supports. The collision geometry's
+  // problems join the assembly's warnings. `progress` may cancel (vaw::LoadCancelled).
   static std::shared_ptr<const Scene> build(Assembly assembly, const ProgressFn& progress = {});
 
   [[nodiscard]] const Assembly& assembly() const { return assembly_; }

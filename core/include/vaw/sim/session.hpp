@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "vaw/atomic_file.hpp"
+#include "vaw/sim/input_log.hpp"
 #include "vaw/sim/world.hpp"
 
 namespace vaw::sim {
@@ -26,7 +27,7 @@ struct Session {
   std::string scene;                     // path of the scene file, as given
   std::optional<std::uint64_t> sceneHash;  // Scene::contentHash when recorded (absent in version 1)
   Settings settings;
-  std::vector<Input> inputs;             // one per step
+  InputLog inputs;                       // one per step
   std::vector<EditRecord> edits;         // in step order; an edit at step k is applied before step k runs
   std::filesystem::path file;            // where it was loaded from (for messages); empty in memory
 };

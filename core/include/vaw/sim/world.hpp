@@ -13,6 +13,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <unordered_set>
 #include <vector>
 
 #include "vaw/assembly.hpp"
@@ -122,18 +123,24 @@ struct Refusal {
 };
 
 // The whole runtime state of a world at the end of a step (Jolt's SaveState, MuJoCo's mj_getState): parts,
-// models, hands, settings and materials as edited, and the logs up to that step. Immutable and cheap to keep
-// (logs are shared between snapshots), so a recording keeps one every second and seeks from the nearest.
+// models, hands, settings and materials as edited, and the logs up to that step. Immutable and cheap to keep:
+// the logs are shared between snapshots, and so is each part's state while it does not change (a part at
+// rest is stored once however many snapshots hold it), so a recording keeps one every second and seeks
+// from the nearest.
 class Snapshot {
  public:
   [[nodiscard]] std::uint64_t step() const;  // steps run before it was taken
   [[nodiscard]] double time() const;
-  [[nodiscard]] bool valid() const { return state_ != nullptr; }
+  [[nodiscard]] bool valid() const { return stored_ != nullptr; }
+  // Heap bytes it holds, counting each part's state it shares with other snapshots only when it is not in
+  // `counted` yet (which it then joins): over all snapshots of a recording, what they hold together.
+  [[nodiscard]] std::size_t bytes(std::unordered_set<const void*>& counted) const;
 
  private:
   friend class World;
   struct State;
-  std::shared_ptr<const State> state_;
+  struct Stored;
+  std::shared_ptr<const Stored> stored_;
 };
 
 class World {

@@ -43,7 +43,12 @@ struct Drawable {
   std::shared_ptr<const MeshBuffer> mesh;  // one buffer per distinct TriMesh
   Rgb color;                               // the material's (parts) or the object's (environment)
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  // at load; a frame moves parts
+  // The default floor: drawn, but only the height of its top counts in the scene's bounds, so that the
+  // view frames the table and not 20 m of floor.
+  bool backdrop = false;
 };
+// What a drawable adds to the scene's bounds.
+Eigen::AlignedBox3d boundsOf(const Drawable& d);
 
 struct SceneDescription {
   std::vector<Drawable> drawables;                   // parts with a mesh in id order, then the environment

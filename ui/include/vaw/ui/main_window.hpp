@@ -68,6 +68,8 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] XrController& xr() const { return *xr_; }
   // The permanent status text: time, step cost, active parts, speed, mode.
   [[nodiscard]] QString statusText() const;
+  // The real rate when it is behind the speed asked for, and what holds it back: "0.78× of real time, rendering is the bottleneck".
+  [[nodiscard]] QString rateText() const;
   // Whether a newly opened scene starts running at once (the workbench does; tests that step by hand
   // turn it off).
   void setAutoPlay(bool on) { autoPlay_ = on; }

@@ -20,6 +20,7 @@
 #include <memory>
 #include <optional>
 
+#include "vaw/sim/rate_meter.hpp"
 #include "vaw/sim/recorder.hpp"
 #include "vaw/view/frame.hpp"
 
@@ -120,6 +121,23 @@ class SimulationController : public QObject {
   // Runs `steps` live steps now (none while paused) and publishes one frame.
   void advance(int steps);
 
+  // ---- the real rate ----
+  // Simulated seconds per wall second over the last two seconds of play, and the share of that wall time
+  // spent stepping; none while paused or until a second has passed. Behind: below the speed asked for
+  // (vaw::sim::fallingBehind), which behindChanged announces.
+  [[nodiscard]] std::optional<vaw::sim::RateMeter::Reading> realRate() const { return rateMeter_.reading(); }
+  [[nodiscard]] bool isBehind() const { return behind_; }
+
+  // ---- memory ----
+  // The machine's available memory in bytes (Linux: MemAvailable in /proc/meminfo); none where unknown.
+  // Checked every `intervalMs` while playing: below kLowMemory the recording gives up its oldest snapshots
+  // (vaw::sim::Recorder::giveUpOldest, half of what it holds) and pastGivenUp says up to when. Tests
+  // replace the probe.
+  static constexpr std::size_t kLowMemory = std::size_t{512} << 20;
+  using MemoryProbe = std::function<std::optional<std::size_t>()>;
+  void setMemoryProbe(MemoryProbe probe, int intervalMs = 5000);
+  [[nodiscard]] static std::optional<std::size_t> availableMemory();
+
   // ---- edits (gravity, friction, method, rate) ----
   // Queued to the next step boundary; editApplied or editRefused says what came of it.
   void requestEdit(const vaw::sim::Edit& edit);
@@ -148,6 +166,8 @@ class SimulationController : public QObject {
   void playingChanged(bool playing);
   void speedChanged(double speed);
   void futureDiscarded(double fromSeconds);
+  void behindChanged(bool behind);
+  void pastGivenUp(double beforeSeconds);  // seeking before this time now replays from further back
 
  private:
   void tick();
@@ -157,6 +177,9 @@ class SimulationController : public QObject {
   [[nodiscard]] vaw::sim::Input nextInput();
   [[nodiscard]] Eigen::Isometry3d basePose(const BaseAngles& a) const;
   void publish();
+  void meterRate();  // after each tick or paced advance
+  void restartRate();
+  void checkMemory();
   void reportNews(std::size_t transitionsBefore, std::size_t refusalsBefore);
   void takeOver();  // live input from the past or during playback: the recorded future goes
   void syncInputs();
@@ -178,6 +201,12 @@ class SimulationController : public QObject {
   InputSource inputSource_;
   Script script_;
   bool externalPacing_ = false;
+  vaw::sim::RateMeter rateMeter_;
+  qint64 steppingNs_ = 0;  // spent stepping since the last sample
+  bool behind_ = false;
+  MemoryProbe memoryProbe_ = &SimulationController::availableMemory;
+  qint64 memoryCheckNs_ = 5'000'000'000;
+  qint64 lastMemoryCheckNs_ = 0;
 
   // Desktop inputs, read at each step.
   Eigen::Isometry3d hand_ = Eigen::Isometry3d::Identity();
