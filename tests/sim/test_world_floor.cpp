@@ -15,12 +15,13 @@ using simtest::at;
 using sim::Input;
 using sim::World;
 
-double tableTop(const Assembly& a) {
-  double top = -1e9;
+Eigen::AlignedBox3d tableBox(const Assembly& a) {
+  Eigen::AlignedBox3d table;
   for (const auto& e : a.environment)
-    if (e.kind == "table") top = std::max(top, (e.pose * e.mesh->bounds().max()).z());
-  return top;
+    if (e.kind == "table") table = Eigen::AlignedBox3d(e.pose * e.mesh->bounds().min(), e.pose * e.mesh->bounds().max());
+  return table;
 }
+double tableTop(const Assembly& a) { return tableBox(a).max().z(); }
 
 double lowestZ(const World& w, PartId id) {
   double low = 1e9;
@@ -85,9 +86,7 @@ TEST(WorldFloor, ABoltThrownOffTheTableComesToRestOnTheFloor) {
   World w(a);
   const PartId bolt = *a.findPart("bolt-14");
   // Lifted clear of the gearbox and thrown at 2.8 m/s away from the table's centre.
-  Eigen::AlignedBox3d table;
-  for (const auto& e : a.environment)
-    if (e.kind == "table") table = Eigen::AlignedBox3d(e.pose * e.mesh->bounds().min(), e.pose * e.mesh->bounds().max());
+  const Eigen::AlignedBox3d table = tableBox(a);
   Eigen::Vector3d away = w.part(bolt).pose.translation() - table.center();
   away.z() = 0.0;
   throwPart(w, bolt, {0, 0, 0.25}, 2.8 * away.normalized());
@@ -105,9 +104,7 @@ TEST(WorldFloor, APartDroppedBesideTheTableLandsOnTheFloorAndIsPickedUpAgain) {
   const Assembly a = simtest::loadBundled("sleeve-on-shaft.vaw.json");
   World w(a);
   const PartId sleeve = *a.findPart("sleeve");
-  Eigen::AlignedBox3d table;
-  for (const auto& e : a.environment)
-    if (e.kind == "table") table = Eigen::AlignedBox3d(e.pose * e.mesh->bounds().min(), e.pose * e.mesh->bounds().max());
+  const Eigen::AlignedBox3d table = tableBox(a);
   const Eigen::Vector3d com = w.part(sleeve).pose * a.parts[sleeve].mass.centerOfMass;
   // Carried 10 cm past the table's edge, held still, let go.
   const Eigen::Vector3d beside(table.max().x() + 0.1, com.y(), table.max().z() + 0.1);
