@@ -161,16 +161,16 @@ Eigen::Vector3d topFaceCentre(const TriMesh& m, const Eigen::Isometry3d& pose) {
   return best;
 }
 
-void carryWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& target, const char* name) {
+namespace {
+QVector3D toQt(const Eigen::Vector3d& v) { return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())}; }
+}  // namespace
+
+void carryWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& target, const char* name, bool letGo) {
   ui::Viewport* viewport = window.viewport();
   ui::SimulationController& sim = window.simulation();
-  const auto world = [&]() -> const sim::World& { return sim.world(); };
-  const auto toQt = [](const Eigen::Vector3d& v) {
-    return QVector3D(static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z()));
-  };
   // A steep view from above that holds the part and its place, so that the parts waiting in a column do not
   // hide each other: the hand moves on a plane facing it.
-  const Eigen::Vector3d from = world().part(id).pose.translation();
+  const Eigen::Vector3d from = sim.world().part(id).pose.translation();
   const Eigen::Vector3d centre = 0.5 * (from + target.translation());
   const double distance = 0.2 + 2.0 * (target.translation() - from).norm();
   Qt3DRender::QCamera* cam = viewport->camera();
@@ -178,15 +178,24 @@ void carryWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& 
   cam->setPosition(toQt(centre + distance * Eigen::Vector3d(0.25, -0.6, 1.0).normalized()));
   cam->setUpVector(QVector3D(0, 0, 1));
   QVERIFY(!capture(viewport).isNull());
-  const QPoint p = viewport->projectToWindow(topFaceCentre(*sim.recorder().scene().assembly().parts[id].mesh, world().part(id).pose)).toPoint();
+  const QPoint p = viewport->projectToWindow(topFaceCentre(*sim.recorder().scene().assembly().parts[id].mesh, sim.world().part(id).pose)).toPoint();
   QVERIFY2(viewport->rect().contains(p), name);
   pressAndDrag(viewport->view3d(), p, p + QPoint(0, -20), 4, 30);  // past the drag distance
-  QTRY_COMPARE_WITH_TIMEOUT(world().part(id).state, interact::PartState::InHand, 3000);
+  QTRY_COMPARE_WITH_TIMEOUT(sim.world().part(id).state, interact::PartState::InHand, 3000);
   QTest::qWait(100);
+  moveCarriedWithMouse(window, id, target, name);
+  if (letGo) releaseWithMouse(window);
+}
+
+void moveCarriedWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& target, const char* name) {
+  ui::Viewport* viewport = window.viewport();
+  ui::SimulationController& sim = window.simulation();
+  Qt3DRender::QCamera* cam = viewport->camera();
   // The hand carries the part rigidly: it must go where the part's move takes the hand.
   const Eigen::Vector3d hand = sim.handPosition();
-  const Eigen::Vector3d wanted = hand + (target.translation() - world().part(id).pose.translation());
+  const Eigen::Vector3d wanted = hand + (target.translation() - sim.world().part(id).pose.translation());
   const Eigen::Vector3d eye(cam->position().x(), cam->position().y(), cam->position().z());
+  const Eigen::Vector3d centre(cam->viewCenter().x(), cam->viewCenter().y(), cam->viewCenter().z());
   const Eigen::Vector3d view = (centre - eye).normalized();
   // The wheel moves the hand's plane along the view by 5 % of its distance a notch.
   const double notches = view.dot(wanted - hand) / (0.05 * view.dot(hand - eye));
@@ -203,9 +212,13 @@ void carryWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& 
   }
   // Held still before the release, so it leaves with no speed.
   QTest::qWait(300);
-  const double off = (world().part(id).pose.translation() - target.translation()).norm();
+  const double off = (sim.world().part(id).pose.translation() - target.translation()).norm();
   QVERIFY2(off < 0.003, qPrintable(QStringLiteral("%1 carried to %2 mm from its target").arg(QLatin1String(name)).arg(off * 1e3)));
-  QTest::mouseRelease(viewport->view3d(), Qt::LeftButton, {}, to);
+}
+
+void releaseWithMouse(ui::MainWindow& window) {
+  const QPoint at = window.viewport()->projectToWindow(window.simulation().handPosition()).toPoint();
+  QTest::mouseRelease(window.viewport()->view3d(), Qt::LeftButton, {}, at);
 }
 
 }  // namespace vaw::guitest

@@ -46,9 +46,13 @@ void pressAndDrag(QWindow* window, const QPoint& from, const QPoint& to, int ste
 Eigen::Vector3d topFaceCentre(const TriMesh& mesh, const Eigen::Isometry3d& pose);
 // As a person carries a part: a steep view from above that holds the part and its target, a press on the
 // part's top face and a drag past the drag distance, the wheel for depth and the pointer for the rest,
-// held still and let go, so that the part is let go at `target` (it keeps its orientation). `name` is for
-// the failure messages.
-void carryWithMouse(ui::MainWindow& window, PartId part, const Eigen::Isometry3d& target, const char* name);
+// held still and let go (unless `letGo` is false), so that the part is let go at `target` (it keeps its
+// orientation). `name` is for the failure messages.
+void carryWithMouse(ui::MainWindow& window, PartId part, const Eigen::Isometry3d& target, const char* name, bool letGo = true);
+// The part in the mouse's hand moved on to `target` (wheel and pointer, from where the hand is now), held still.
+void moveCarriedWithMouse(ui::MainWindow& window, PartId part, const Eigen::Isometry3d& target, const char* name);
+// The button let go where the hand is.
+void releaseWithMouse(ui::MainWindow& window);
 
 // Types `text` into a spin box: focus, select all, the keys, Return.
 void typeInto(QAbstractSpinBox* box, const QString& text);

@@ -90,6 +90,7 @@ class TestSimulation : public QObject {
   void principalAxesAreDrawnOnRequest();
   void partOnTheFloorIsPickedUpAndPutBackOnTheTable();
   void shortMemoryGivesUpTheOldestSnapshotsNotTheProcess();
+  void carriedNearItsMateThePartShowsTheCaptureZone();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -721,6 +722,37 @@ void TestSimulation::shortMemoryGivesUpTheOldestSnapshotsNotTheProcess() {
   vaw::sim::Session upTo = sim().recorder().session();
   upTo.inputs.resize(step);
   QCOMPARE(vaw::sim::replay(sim().recorder().scenePtr(), upTo).stateHash(), sim().world().stateHash());
+}
+
+// Carried near its shaft, the sleeve shows where it must be let go: the capture zone round the shaft's axis
+// in the viewport (red while a release would not take, green when it would) and, in the status bar, how
+// far off it is and how near it must be. Let go where it is green, it goes onto the shaft.
+void TestSimulation::carriedNearItsMateThePartShowsTheCaptureZone() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  const PartId sleeve = *assembly().findPart("sleeve");
+  Eigen::Isometry3d off = *assembly().parts[sleeve].finalPose;
+  off.translation() += Eigen::Vector3d(0.025, 0.0, 0.01);
+  vaw::guitest::carryWithMouse(*window_, sleeve, off, "sleeve", false);
+  if (QTest::currentTestFailed()) return;
+  QTRY_VERIFY_WITH_TIMEOUT(viewport()->captureZone().has_value(), 2000);
+  QVERIFY(!viewport()->captureZone()->captures);
+  QVERIFY2((viewport()->captureZone()->direction.cross(Eigen::Vector3d::UnitZ())).norm() < 1e-9, "the shaft's axis is vertical");
+  const auto statusText = [&] { return window_->statusText(); };
+  QVERIFY2(statusText().contains(QStringLiteral("let go within 10 mm")), qPrintable(statusText()));
+  QVERIFY2(statusText().contains(QRegularExpression(QStringLiteral("sleeve is 2[2-8](\\.\\d)? mm"))), qPrintable(statusText()));
+  screenshot(QStringLiteral("capture-zone-red.png"));
+  Eigen::Isometry3d on = *assembly().parts[sleeve].finalPose;
+  on.translation() += Eigen::Vector3d(0.003, 0.0, 0.01);
+  vaw::guitest::moveCarriedWithMouse(*window_, sleeve, on, "sleeve");
+  if (QTest::currentTestFailed()) return;
+  QTRY_VERIFY_WITH_TIMEOUT(viewport()->captureZone() && viewport()->captureZone()->captures, 2000);
+  QVERIFY2(statusText().contains(QStringLiteral("let go now and sleeve goes onto base")), qPrintable(statusText()));
+  screenshot(QStringLiteral("capture-zone-green.png"));
+  vaw::guitest::releaseWithMouse(*window_);
+  QTRY_VERIFY_WITH_TIMEOUT(world().part(sleeve).state != PartState::InHand, 3000);
+  const PartState s = world().part(sleeve).state;
+  QVERIFY2(s == PartState::OnBaseSlide || s == PartState::OnBaseStatic || s == PartState::Placed, qPrintable(stateOf(world(), sleeve)));
+  QTRY_VERIFY_WITH_TIMEOUT(!viewport()->captureZone().has_value(), 2000);
 }
 
 QTEST_MAIN(TestSimulation)

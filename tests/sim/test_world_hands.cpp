@@ -235,3 +235,37 @@ TEST(WorldHands, SpinningThrowUsesTorqueFreeRotationAndConservesAngularMomentum)
   EXPECT_EQ(w.part(block).state, PartState::Static);
   EXPECT_EQ(simtest::join(simtest::transitionNames(w, block)), "grab:INHAND release:INSPACE hit-environment:STATIC");
 }
+
+// The capture hint the window shows while a part is carried: how far off its mate it is, and whether a
+// release there goes onto it, which the release then does (or does not).
+TEST(WorldHands, CaptureHintSaysWhetherAReleaseGoesOntoTheMate) {
+  const Assembly a = simtest::loadBundled("sleeve-on-shaft.vaw.json");
+  const PartId sleeve = *a.findPart("sleeve");
+  for (const double off : {0.025, 0.003}) {
+    World w(a);
+    EXPECT_FALSE(w.captureHint(sleeve) && w.part(sleeve).state == PartState::InHand);
+    const Eigen::Isometry3d start = a.parts[sleeve].pose;
+    Eigen::Isometry3d target = *a.parts[sleeve].finalPose;
+    target.translation() += Eigen::Vector3d(off, 0.0, 0.01);
+    Input in;
+    in.right = simtest::hand(start, true);
+    w.step(in);
+    in.right = simtest::hand(target, true);  // the hand's frame is the part's: it carries the part there
+    for (int k = 0; k < 5; ++k) w.step(in);
+    ASSERT_EQ(w.part(sleeve).state, PartState::InHand);
+    const auto hint = w.captureHint(sleeve);
+    ASSERT_TRUE(hint.has_value());
+    EXPECT_EQ(hint->type, Constraint::Type::Insert);
+    EXPECT_NEAR(hint->distance, off, 1e-9) << "off the shaft's axis";
+    EXPECT_NEAR(hint->angle, 0.0, 1e-9);
+    EXPECT_NEAR(std::abs(hint->direction.z()), 1.0, 1e-12) << "the shaft stands upright";
+    const bool captures = off < w.settings().recognizeDistance;
+    EXPECT_EQ(hint->captures, captures) << off;
+    in.right.grab = false;
+    w.step(in);
+    const auto& log = w.transitions();
+    const bool recognized = std::any_of(log.begin(), log.end(), [&](const auto& t) { return t.event == interact::Event::ConstraintRecognized; });
+    EXPECT_EQ(recognized, captures) << "the release does what the hint said, " << off << " m off: "
+                                    << simtest::join(simtest::transitionNames(w, sleeve));
+  }
+}

@@ -28,6 +28,7 @@
 #include <QToolBar>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "format.hpp"
 #include "vaw/error.hpp"
@@ -564,10 +565,45 @@ void MainWindow::showSelection(std::optional<vaw::PartId> part) {
 
 void MainWindow::frameReady() {
   viewport_->applyFrame(simulation_->frame());
+  updateCapture();
   if (motionDock_->isVisible() && !motionStale_) motionDock_->follow(*simulation_, false, false);
   // The panels follow at a readable rate while it runs, at once when it is paused (a seek, a step).
   if (!simulation_->isPlaying() || lastLive_.elapsed() >= kLiveIntervalMs) updateLive();
   else if (!liveTimer_.isActive()) liveTimer_.start(static_cast<int>(kLiveIntervalMs - lastLive_.elapsed()));
+}
+
+void MainWindow::updateCapture() {
+  const QString before = captureText_;
+  captureText_.clear();
+  std::optional<Viewport::CaptureZone> zone;
+  const vaw::sim::World& w = simulation_->world();
+  const auto held = w.held(1);
+  const auto hint = held ? w.captureHint(*held) : std::nullopt;
+  const vaw::sim::Settings& st = w.settings();
+  const double kDeg = std::numbers::pi / 180.0;
+  // Near: within five times the capture distance and three times its angle.
+  if (hint && hint->distance <= 5.0 * st.recognizeDistance && hint->angle <= 3.0 * st.recognizeAngle * kDeg) {
+    const vaw::Assembly& a = w.assembly();
+    const vaw::Constraint& c = a.constraints[hint->constraint];
+    const QString part = QString::fromStdString(a.parts[*held].name);
+    const QString partner = QString::fromStdString(a.parts[c.partner.value_or(a.base.value_or(0))].name);
+    const QString off = tr("%1 mm, %2° off").arg(format::number(hint->distance * 1e3, 3)).arg(format::number(hint->angle / kDeg, 2));
+    captureText_ = hint->captures ? tr("let go now and %1 goes onto %2 (%3)").arg(part, partner, off)
+                                  : tr("%1 is %2 %3: let go within %4 mm and %5°, touching it, to put it on")
+                                        .arg(part, off, c.type == vaw::Constraint::Type::Insert ? tr("the axis on %1").arg(partner)
+                                                                                                : tr("its face on %1").arg(partner))
+                                        .arg(format::number(st.recognizeDistance * 1e3, 2))
+                                        .arg(format::number(st.recognizeAngle, 2));
+    // Drawn just past the part along the mate's axis or normal, where the part does not hide it: seen along
+    // that direction, the part's axis must lie inside the ring.
+    const Eigen::Vector3d d = hint->direction.normalized();
+    double past = 0.0;
+    for (const auto& v : a.parts[*held].mesh->vertices) past = std::max(past, d.dot(w.part(*held).pose * v - hint->point));
+    zone = Viewport::CaptureZone{c.type == vaw::Constraint::Type::Insert, hint->point + d * (past + 0.5 * st.recognizeDistance), d,
+                                 st.recognizeDistance, hint->captures};
+  }
+  viewport_->showCaptureZone(zone);
+  if (captureText_ != before) updateStatus();
 }
 
 void MainWindow::updateLive() {
@@ -877,12 +913,13 @@ QString MainWindow::statusText() const {
   if (simulation_->isPlayback()) mode += tr(", playback");
   else if (simulation_->inPast()) mode += tr(", in the past");
   const QString speed = simulation_->isBehind() ? rateText() : tr("%1×").arg(format::number(simulation_->speed(), 2));
-  return tr("t %1 s · step %2 µs · %3 active · %4 · %5")
-      .arg(QString::number(w.time(), 'f', 3))
-      .arg(QString::number(static_cast<double>(simulation_->lastStepNanoseconds()) * 1e-3, 'f', 1))
-      .arg(w.activeParts())
-      .arg(speed)
-      .arg(mode);
+  const QString text = tr("t %1 s · step %2 µs · %3 active · %4 · %5")
+                           .arg(QString::number(w.time(), 'f', 3))
+                           .arg(QString::number(static_cast<double>(simulation_->lastStepNanoseconds()) * 1e-3, 'f', 1))
+                           .arg(w.activeParts())
+                           .arg(speed)
+                           .arg(mode);
+  return captureText_.isEmpty() ? text : captureText_ + tr(" · ") + text;
 }
 
 QString MainWindow::rateText() const {

@@ -183,6 +183,8 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
   constraintSegments_.clear();
   delete sceneRoot_;
   for (auto& line : constraintLines_) line = Overlay{};
+  captureRing_ = captureLine_ = Overlay{};
+  captureShown_.reset();
   sceneRoot_ = new Qt3DCore::QEntity(root_);
   partsBounds_.setEmpty();
   allBounds_.setEmpty();
@@ -252,6 +254,8 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
     for (int k = 0; k < 3; ++k) axes_[k] = makeOverlay(cylinder_, axisColors[k]);
     // Magenta: no state tint, selection or axis colour uses it.
     for (auto& line : constraintLines_) line = makeOverlay(cylinder_, QColor(225, 0, 200));
+    captureRing_ = makeOverlay(torus_, QColor(215, 50, 50));
+    captureLine_ = makeOverlay(cylinder_, QColor(215, 50, 50));
   }
   resetView();
   if (hadSelection) emit partSelected(std::nullopt);
@@ -403,6 +407,27 @@ void Viewport::placeConstraint() {
     if (k < constraintSegments_.size()) placeLine(constraintLines_[k], constraintSegments_[k].first, constraintSegments_[k].second, 0.8 * r);
     else hide(constraintLines_[k]);
   }
+}
+
+void Viewport::showCaptureZone(const std::optional<CaptureZone>& zone) {
+  captureShown_ = zone;
+  if (captureRing_.entity == nullptr) return;  // no scene
+  if (!zone) {
+    hide(captureRing_);
+    hide(captureLine_);
+    return;
+  }
+  const QColor color = zone->captures ? QColor(50, 190, 60) : QColor(215, 50, 50);
+  setColor(captureRing_.material, color, 0.6);
+  setColor(captureLine_.material, color, 0.6);
+  const Eigen::Vector3d d = zone->direction.normalized();
+  Eigen::Isometry3d ring = Eigen::Isometry3d::Identity();
+  ring.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), d).toRotationMatrix();
+  ring.translation() = zone->point;
+  // The torus's tube is a quarter of its radius: the ring's inside edge is the capture distance.
+  placeAt(captureRing_, ring, Eigen::Vector3d::Constant(zone->reach / 0.75));
+  // The axis (or normal) on from the ring, away from the part.
+  placeLine(captureLine_, zone->point, zone->point + (zone->axis ? 4.0 : 2.0) * zone->reach * d, 0.6 * lineRadius());
 }
 
 void Viewport::showAxes(const std::optional<Axes>& axes) {

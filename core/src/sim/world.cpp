@@ -419,6 +419,7 @@ std::optional<interact::Twist> World::releaseVelocity(PartId id) const {
   if (impl_->parts.at(id).state != PartState::InHand) return std::nullopt;
   return interact::releaseVelocity(impl_->models[id].history, impl_->settings.release);
 }
+std::optional<CaptureHint> World::captureHint(PartId id) const { return impl_->captureHint(id); }
 std::optional<dyn::RotationModel> World::flightRotation(PartId id) const {
   if (impl_->parts.at(id).model != Model::Free) return std::nullopt;
   return impl_->models[id].rotation;

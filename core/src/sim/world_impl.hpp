@@ -214,7 +214,13 @@ struct World::Impl : Snapshot::State {
     Eigen::Isometry3d pose;
     double distance = 0.0, angle = 0.0;
   };
+  // The part's pose snapped onto constraint `ci` and how far it was off, whatever the limits.
+  [[nodiscard]] Recognition measure(PartId id, std::size_t ci) const;
+  // Whether a release at the part's pose would put it on that constraint: within the capture limits, on
+  // its home side, and (checkTouch) touching its partner there.
+  bool captures(PartId id, const Recognition& rec, bool checkTouch = true);
   std::optional<Recognition> recognize(PartId id);
+  std::optional<CaptureHint> captureHint(PartId id);
   bool atFinalPose(PartId id, Eigen::Isometry3d& snapped) const;
   void enterOnBase(PartId id, std::size_t ci);
   void updatePlay(PartId id);

@@ -3,6 +3,7 @@
 // and blocked checks along each step's motion, and the start test of a part at rest (ONBASESTATIC).
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <utility>
 
 #include "vaw/collision/time_of_impact.hpp"
@@ -70,54 +71,96 @@ void World::Impl::updatePlay(PartId id) {
   m.play = g.normalized() * m.clearance;
 }
 
-std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
-  if (!base) return std::nullopt;
+World::Impl::Recognition World::Impl::measure(PartId id, std::size_t ci) const {
   const Eigen::Isometry3d& P = parts[id].pose;
   const Eigen::Isometry3d& B = basePose;
+  const Constraint& c = inBaseFrame[ci];
+  Recognition rec;
+  rec.constraint = ci;
+  if (c.type == Constraint::Type::Insert) {
+    const Eigen::Vector3d dp = P.linear() * c.partAxis.direction, pp = P * c.partAxis.point;
+    const Eigen::Vector3d db = B.linear() * c.baseAxis.direction, pb = B * c.baseAxis.point;
+    const double dot = dp.dot(db);
+    rec.angle = std::acos(std::clamp(std::abs(dot), 0.0, 1.0));
+    const Eigen::Vector3d target = dot >= 0.0 ? db : Eigen::Vector3d(-db);
+    rec.pose = turnAbout(P, pp, dp, target);
+    const Eigen::Vector3d rel = pp - pb;
+    const Eigen::Vector3d off = rel - db * db.dot(rel);
+    rec.distance = off.norm();
+    rec.pose.translation() -= off;
+  } else {
+    const Eigen::Vector3d np = P.linear() * c.partPlane.normal, pp = P * c.partPlane.point;
+    const Eigen::Vector3d nb = B.linear() * c.basePlane.normal, pb = B * c.basePlane.point;
+    const Eigen::Vector3d target = c.type == Constraint::Type::Mate ? Eigen::Vector3d(-nb) : nb;
+    rec.angle = std::acos(std::clamp(np.dot(target), -1.0, 1.0));
+    rec.pose = turnAbout(P, pp, np, target);
+    const double d = nb.dot(pp - pb) - c.offset;
+    rec.distance = std::abs(d);
+    rec.pose.translation() -= nb * d;
+  }
+  return rec;
+}
+
+bool World::Impl::captures(PartId id, const Recognition& rec, bool checkTouch) {
+  if (rec.angle > settings.recognizeAngle * kDeg || rec.distance > settings.recognizeDistance) return false;
+  const Constraint& c = inBaseFrame[rec.constraint];
+  // A constraint found in a CAD file knows the side its part comes home from: a part past its home
+  // (a stud pushed through the plate from below) is not put on it there.
+  if (c.found && def(id).finalPose) {
+    const Eigen::Vector3d home = basePose.linear() * c.homeDirection;
+    const Eigen::Vector3d finalAt = (basePose * (baseLoad.inverse() * *def(id).finalPose)).translation();
+    // Where it was let go, not where the mate would snap it.
+    if (home.dot(parts[id].pose.translation() - finalAt) < -settings.placeDistance) return false;
+  }
+  const collision::Support& s = scene->support(rec.constraint);
+  if (!s.problem.empty()) return false;
+  return !checkTouch || collision.touching(s, rec.pose).touching;
+}
+
+std::optional<World::Impl::Recognition> World::Impl::recognize(PartId id) {
+  if (!base) return std::nullopt;
   for (std::size_t ci = 0; ci < inBaseFrame.size(); ++ci) {
-    const Constraint& c = inBaseFrame[ci];
-    if (c.part != id) continue;
-    Recognition rec;
-    rec.constraint = ci;
-    if (c.type == Constraint::Type::Insert) {
-      const Eigen::Vector3d dp = P.linear() * c.partAxis.direction, pp = P * c.partAxis.point;
-      const Eigen::Vector3d db = B.linear() * c.baseAxis.direction, pb = B * c.baseAxis.point;
-      const double dot = dp.dot(db);
-      rec.angle = std::acos(std::clamp(std::abs(dot), 0.0, 1.0));
-      if (rec.angle > settings.recognizeAngle * kDeg) continue;
-      const Eigen::Vector3d target = dot >= 0.0 ? db : Eigen::Vector3d(-db);
-      rec.pose = turnAbout(P, pp, dp, target);
-      const Eigen::Vector3d rel = pp - pb;
-      const Eigen::Vector3d off = rel - db * db.dot(rel);
-      rec.distance = off.norm();
-      if (rec.distance > settings.recognizeDistance) continue;
-      rec.pose.translation() -= off;
-    } else {
-      const Eigen::Vector3d np = P.linear() * c.partPlane.normal, pp = P * c.partPlane.point;
-      const Eigen::Vector3d nb = B.linear() * c.basePlane.normal, pb = B * c.basePlane.point;
-      const Eigen::Vector3d target = c.type == Constraint::Type::Mate ? Eigen::Vector3d(-nb) : nb;
-      rec.angle = std::acos(std::clamp(np.dot(target), -1.0, 1.0));
-      if (rec.angle > settings.recognizeAngle * kDeg) continue;
-      rec.pose = turnAbout(P, pp, np, target);
-      const double d = nb.dot(pp - pb) - c.offset;
-      rec.distance = std::abs(d);
-      if (rec.distance > settings.recognizeDistance) continue;
-      rec.pose.translation() -= nb * d;
-    }
-    // A constraint found in a CAD file knows the side its part comes home from: a part past its home
-    // (a stud pushed through the plate from below) is not put on it there.
-    if (c.found && def(id).finalPose) {
-      const Eigen::Vector3d home = B.linear() * c.homeDirection;
-      const Eigen::Vector3d finalAt = (B * (baseLoad.inverse() * *def(id).finalPose)).translation();
-      // Where it was let go, not where the mate would snap it.
-      if (home.dot(P.translation() - finalAt) < -settings.placeDistance) continue;
-    }
-    const collision::Support& s = scene->support(ci);
-    if (!s.problem.empty()) continue;
-    if (!collision.touching(s, rec.pose).touching) continue;
-    return rec;
+    if (inBaseFrame[ci].part != id) continue;
+    const Recognition rec = measure(id, ci);
+    if (captures(id, rec)) return rec;
   }
   return std::nullopt;
+}
+
+std::optional<CaptureHint> World::Impl::captureHint(PartId id) {
+  if (!base || id >= parts.size()) return std::nullopt;
+  std::optional<CaptureHint> best;
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (std::size_t ci = 0; ci < inBaseFrame.size(); ++ci) {
+    const Constraint& c = inBaseFrame[ci];
+    if (c.part != id || (c.partner && parts[*c.partner].state != PartState::Placed)) continue;
+    const Recognition rec = measure(id, ci);
+    // Nearest in units of the capture's own limits.
+    const double score = rec.distance / settings.recognizeDistance + rec.angle / (settings.recognizeAngle * kDeg);
+    if (score >= bestScore) continue;
+    bestScore = score;
+    CaptureHint h;
+    h.constraint = ci;
+    h.type = c.type;
+    h.distance = rec.distance;
+    h.angle = rec.angle;
+    // Not flushed for a question between steps (that would make the world's state depend on who asked):
+    // a partner whose pose the collision world does not have yet is not checked for touch.
+    h.captures = captures(id, rec, !(c.partner && dirty[*c.partner]));
+    if (c.type == Constraint::Type::Insert) {
+      h.direction = basePose.linear() * c.baseAxis.direction;
+      const Eigen::Vector3d pb = basePose * c.baseAxis.point;
+      const Eigen::Vector3d pp = parts[id].pose * c.partAxis.point;
+      h.point = pb + h.direction * h.direction.dot(pp - pb);
+    } else {
+      h.direction = basePose.linear() * c.basePlane.normal;
+      const Eigen::Vector3d pb = basePose * c.basePlane.point;
+      const Eigen::Vector3d pp = parts[id].pose * c.partPlane.point;
+      h.point = pp - h.direction * (h.direction.dot(pp - pb) - c.offset);
+    }
+    best = h;
+  }
+  return best;
 }
 
 bool World::Impl::atFinalPose(PartId id, Eigen::Isometry3d& snapped) const {

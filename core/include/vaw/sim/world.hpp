@@ -143,6 +143,18 @@ class Snapshot {
   std::shared_ptr<const Stored> stored_;
 };
 
+// How near a carried part is to being put on its mate when let go (the status bar and the viewport show it
+// while a part is carried near its mate): the nearest of its constraints whose partner is placed.
+struct CaptureHint {
+  std::size_t constraint = 0;  // index into Assembly::constraints
+  Constraint::Type type = Constraint::Type::Insert;
+  double distance = 0.0;  // m off the mate's axis (insert) or plane (mate)
+  double angle = 0.0;     // rad between the part's axis or face and the mate's
+  bool captures = false;  // let go now, it goes onto the mate (within the limits and touching its partner there)
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // world: on the mate's axis or plane, nearest the part's
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ(); // world: the axis, or the plane's normal
+};
+
 class World {
  public:
   explicit World(std::shared_ptr<const Scene> scene, Settings settings = {});
@@ -191,6 +203,8 @@ class World {
   [[nodiscard]] std::optional<PartId> onHoist() const;
   // What the release estimator would give for a held part if it were let go now.
   [[nodiscard]] std::optional<interact::Twist> releaseVelocity(PartId id) const;
+  // None when the part has no constraint whose partner is placed, or the scene no base.
+  [[nodiscard]] std::optional<CaptureHint> captureHint(PartId id) const;
   // The linear stability of the rotation method at the current rate for a part that turns on a shaft: the
   // hinge it is on now, or, for a part with an insert constraint that is not on it yet, the hinge it would
   // be on at its assembled pose, under the base's current orientation and the rotation's gravity. The

@@ -70,6 +70,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] QString statusText() const;
   // The real rate when it is behind the speed asked for, and what holds it back: "0.78× of real time, rendering is the bottleneck".
   [[nodiscard]] QString rateText() const;
+  QString captureText_;  // the status bar's capture hint, empty when no part is carried near its mate
   // Whether a newly opened scene starts running at once (the workbench does; tests that step by hand
   // turn it off).
   void setAutoPlay(bool on) { autoPlay_ = on; }
@@ -110,6 +111,9 @@ class MainWindow : public QMainWindow {
   void showSelection(std::optional<vaw::PartId> part);
   void frameReady();
   void updateLive();
+  // While the mouse's hand carries a part near its mate: the capture zone in the viewport and, in the
+  // status bar, how near a release must be.
+  void updateCapture();
   void updateStatus();
   void logChanged();
   void message(int severity, const QString& text, const QString& detail = {});

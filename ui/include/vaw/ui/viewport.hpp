@@ -104,6 +104,19 @@ class Viewport : public QWidget {
     Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // the axis's direction, the plane's normal; unit
     double size = 0.1;                                     // m
   };
+  // Where a carried part must be let go to go onto its mate (vaw::sim::CaptureHint), in the world: a ring of
+  // the capture distance round the mate's axis (or in a plane parallel to its face) centred on `point`, and
+  // the axis (or normal) on from it. Green when a release now would put the part on, red when not.
+  struct CaptureZone {
+    bool axis = true;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+    Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // unit
+    double reach = 0.01;                                   // m, the capture distance
+    bool captures = false;
+  };
+  void showCaptureZone(const std::optional<CaptureZone>& zone);
+  [[nodiscard]] const std::optional<CaptureZone>& captureZone() const { return captureShown_; }
+
   void showConstraintGeometry(const ConstraintGeometry& geometry);
   void hideConstraintGeometry();
   [[nodiscard]] const std::optional<ConstraintGeometry>& constraintGeometry() const { return constraintShown_; }
@@ -207,6 +220,8 @@ class Viewport : public QWidget {
   std::optional<Axes> axesShown_;
   static constexpr std::size_t kConstraintLines = 5;  // a square's four sides and its normal; an axis uses one
   Overlay constraintLines_[kConstraintLines];
+  Overlay captureRing_, captureLine_;
+  std::optional<CaptureZone> captureShown_;
   std::optional<ConstraintGeometry> constraintShown_;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> constraintSegments_;
   std::size_t lastUpdates_ = 0;
