@@ -242,6 +242,7 @@ class OpenXrBackend final : public Backend {
       Eigen::Isometry3d head = a;
       head.translation() = 0.5 * (a.translation() + b.translation());
       head.linear() = Eigen::Quaterniond(a.linear()).slerp(0.5, Eigen::Quaterniond(b.linear())).toRotationMatrix();
+      headInSpace_ = head;
       result.head = worldFromSpace_ * head;
       result.fovUp = 0.5 * (views[0].fov.angleUp + views[1].fov.angleUp);
       result.fovDown = 0.5 * (views[0].fov.angleDown + views[1].fov.angleDown);
@@ -511,6 +512,25 @@ class OpenXrBackend final : public Backend {
     worldFromSpace_ = p.inverse();
   }
 
+  void recenter() override {
+    if (!headInSpace_) return;  // no frame located the head yet: the first placement stays
+    const Eigen::Vector3d up = Eigen::Vector3d::UnitY();
+    Eigen::Vector3d ahead = headInSpace_->linear() * Eigen::Vector3d(0.0, 0.0, -1.0);
+    ahead -= up * up.dot(ahead);
+    // Looking straight down or up: the head's own up (its top) points the way it faces.
+    if (ahead.norm() < 1e-3) ahead = headInSpace_->linear() * Eigen::Vector3d::UnitY() - up * up.dot(headInSpace_->linear() * Eigen::Vector3d::UnitY());
+    if (ahead.norm() < 1e-9) return;
+    ahead.normalize();
+    const Eigen::Vector3d right = ahead.cross(up);
+    Eigen::Isometry3d spaceFromWorld = Eigen::Isometry3d::Identity();
+    spaceFromWorld.linear().col(0) = right;  // world x
+    spaceFromWorld.linear().col(1) = ahead;  // world y
+    spaceFromWorld.linear().col(2) = up;     // world z
+    spaceFromWorld.translation() =
+        headInSpace_->translation() + ahead * options_.placement.tableDistance - up * options_.placement.tableBelowEyes;
+    worldFromSpace_ = spaceFromWorld.inverse();
+  }
+
   void createSwapchains() {
     std::uint32_t count = 0;
     must(xrEnumerateSwapchainFormats(session_, 0, &count, nullptr), "xrEnumerateSwapchainFormats");
@@ -739,6 +759,7 @@ class OpenXrBackend final : public Backend {
   XrEnvironmentBlendMode blendMode_ = XR_ENVIRONMENT_BLEND_MODE_OPAQUE;
   std::array<Swapchain, 2> swapchains_;
   Eigen::Isometry3d worldFromSpace_ = Eigen::Isometry3d::Identity();
+  std::optional<Eigen::Isometry3d> headInSpace_;  // the last frame's, for recenter()
   XrSessionState state_ = XR_SESSION_STATE_UNKNOWN;
   bool running_ = false, finished_ = false;
   std::optional<Event> pendingFailure_;

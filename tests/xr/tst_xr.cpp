@@ -112,6 +112,7 @@ class TestXr : public QObject {
   void bothHandsTakeATwoHandPart();
   void trialsAreDroppedAndAnsweredWithTheHands();
   void noRuntimeAndNoHeadsetSaySo();
+  void recenterPutsTheTableInFrontOfTheWearer();
 
  private:
   [[nodiscard]] vaw::ui::SimulationController& sim() const { return window_->simulation(); }
@@ -544,6 +545,46 @@ void TestXr::noRuntimeAndNoHeadsetSaySo() {
   QVERIFY2(failures_.back().second.contains(QStringLiteral("sees no headset")), qPrintable(failures_.back().second));
   QVERIFY(!xr().inHeadset());
   QVERIFY(sim().hasWorld());
+  checkSpecification();
+}
+
+// VR > Recenter: a wearer who stands away from the stage's origin and looks to the side has the table out of
+// view; recentring puts its centre 0.45 m ahead along their gaze and its top 0.45 m below their eyes.
+void TestXr::recenterPutsTheTableInFrontOfTheWearer() {
+  open(QStringLiteral("block-on-plate.vaw.json"));
+  // Standing 0.8 m to the right of the origin and 0.3 m behind it, eyes 1.5 m up, turned 90 degrees left.
+  script(QJsonObject{{QStringLiteral("duration"), 1.0},
+                     {QStringLiteral("head"), QJsonArray{QJsonObject{
+                                                  {QStringLiteral("t"), 0},
+                                                  {QStringLiteral("position"), QJsonArray{0.8, 1.5, 0.3}},
+                                                  {QStringLiteral("rotation"), QJsonObject{{QStringLiteral("axis"), QJsonArray{0, 1, 0}},
+                                                                                           {QStringLiteral("angle"), 90}}}}}}});
+  QVERIFY(!xr().recenterAction()->isEnabled());
+  Eigen::Isometry3d before = Eigen::Isometry3d::Identity();
+  int frames = 0;
+  const auto at = connect(&xr(), &vaw::ui::XrController::frameShown, this, [&] {
+    if (!xr().lastFrame().rendered) return;
+    if (++frames == 20) {
+      before = xr().lastFrame().head;
+      QVERIFY(xr().recenterAction()->isEnabled());
+      xr().recenterAction()->trigger();
+    }
+  });
+  runInHeadset();
+  disconnect(at);
+  QVERIFY2(frames > 40, qPrintable(QString::number(frames)));
+  QVERIFY2(failures_.isEmpty(), qPrintable(failures_.isEmpty() ? QString() : failures_.front().second));
+  // Before: the stage placement (table top 0.9 m above the floor, eyes 0.6 m above it, the table to the side).
+  QVERIFY2(std::abs(before.translation().z() - 0.6) < 1e-3, qPrintable(QString::number(before.translation().z())));
+  const Eigen::Isometry3d& head = xr().lastFrame().head;
+  QVERIFY2(std::abs(head.translation().z() - 0.45) < 1e-3, qPrintable(QString::number(head.translation().z())));
+  Eigen::Vector3d gaze = head.linear() * Eigen::Vector3d(0.0, 0.0, -1.0);
+  gaze.z() = 0.0;
+  // The world's origin, the table's centre in the bundled scenes.
+  const Eigen::Vector2d origin = head.translation().head<2>() + 0.45 * gaze.normalized().head<2>();
+  QVERIFY2(origin.norm() < 1e-3, qPrintable(QString::number(origin.norm())));
+  QVERIFY2(gaze.normalized().y() > 0.999, "the world's +y is ahead of the wearer again");
+  QVERIFY(notices_.join(QLatin1Char(' ')).contains(QStringLiteral("Recentred")));
   checkSpecification();
 }
 

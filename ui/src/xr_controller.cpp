@@ -58,6 +58,10 @@ void XrController::install(QMenuBar* bar, QStatusBar* status) {
   enterAction_->setObjectName(QStringLiteral("enterVrAction"));
   enterAction_->setShortcut(QKeySequence(tr("Ctrl+Shift+V")));
   enterAction_->setCheckable(true);
+  recenterAction_ = menu->addAction(tr("&Recenter"), this, &XrController::recenter);
+  recenterAction_->setObjectName(QStringLiteral("recenterVrAction"));
+  recenterAction_->setShortcut(QKeySequence(tr("Ctrl+Shift+C")));
+  recenterAction_->setToolTip(tr("Put the table in front of where you stand and look now, at a comfortable height"));
   status_ = new QLabel(status);
   status_->setObjectName(QStringLiteral("vrStatus"));
   status->addPermanentWidget(status_);
@@ -81,10 +85,20 @@ void XrController::updateUi() {
     enterAction_->setText(inHeadset() ? tr("&Leave VR") : tr("&Enter VR"));
     enterAction_->setChecked(inHeadset());
   }
+  if (recenterAction_ != nullptr) recenterAction_->setEnabled(mode_ == Mode::Headset);
   if (status_ != nullptr) status_->setText(statusText());
 }
 
 void XrController::toggle() { inHeadset() ? leave() : enter(); }
+
+void XrController::recenter() {
+  if (!backend_ || mode_ != Mode::Headset) return;
+  backend_->recenter();
+  emit notice(tr("Recentred: the table is %1 m in front of you, its top %2 m below your eyes")
+                  .arg(xr::Placement{}.tableDistance)
+                  .arg(xr::Placement{}.tableBelowEyes),
+              false);
+}
 
 bool XrController::loadPlugin(QString& why) {
   if (create_ != nullptr) return true;

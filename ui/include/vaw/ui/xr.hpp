@@ -19,7 +19,7 @@
 
 namespace vaw::xr {
 
-inline constexpr int kAbiVersion = 1;
+inline constexpr int kAbiVersion = 2;  // 2: Backend::recenter
 inline constexpr const char* kPluginFile = "libvaw_xr_openxr.so";
 
 // The 26 joints of XR_EXT_hand_tracking, in its order.
@@ -147,6 +147,10 @@ class Backend {
   // The hands at `time` (the runtime's clock, ns): tracked joints where the runtime tracks them, else the
   // controller; Source::None while the session has no input focus.
   [[nodiscard]] virtual HandsSample sampleHands(std::int64_t time) = 0;
+  // Places the world again from where the head is and looks now (the last frame's): the table's centre
+  // Placement::tableDistance ahead along the gaze's horizontal direction and its top
+  // Placement::tableBelowEyes below the eyes, the world's +y ahead. From the next frame on.
+  virtual void recenter() = 0;
   // Asks the runtime to end the session (xrRequestExitSession); poll() then reports STOPPING and EXITING.
   virtual void requestExit() = 0;
   // The session reached EXITING or was lost: nothing more to do but destroy the backend.

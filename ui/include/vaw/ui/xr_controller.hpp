@@ -56,6 +56,7 @@ class XrController : public QObject {
   [[nodiscard]] const xr::RuntimeInfo& runtime() const { return runtime_; }
   [[nodiscard]] QString statusText() const;
   [[nodiscard]] QAction* enterAction() const { return enterAction_; }
+  [[nodiscard]] QAction* recenterAction() const { return recenterAction_; }
   // The last frame the headset showed (its timings and head pose), and how many it has shown.
   [[nodiscard]] const xr::FrameResult& lastFrame() const { return lastFrame_; }
   [[nodiscard]] std::uint64_t framesShown() const { return framesShown_; }
@@ -67,6 +68,9 @@ class XrController : public QObject {
   // Asks the runtime to end the session; the headset winds down over the next frames.
   void leave();
   void toggle();
+  // VR > Recenter (Ctrl+Shift+C): the table in front of where the wearer stands and looks now
+  // (xr::Backend::recenter); only in the headset.
+  void recenter();
 
  signals:
   void modeChanged(bool inHeadset);
@@ -95,6 +99,7 @@ class XrController : public QObject {
   QPointer<SimulationController> simulation_;
   QPointer<Viewport> mirror_;
   QAction* enterAction_ = nullptr;
+  QAction* recenterAction_ = nullptr;
   QLabel* status_ = nullptr;
   Mode mode_ = Mode::Desktop;
   xr::SessionState state_ = xr::SessionState::Unknown;
