@@ -26,8 +26,9 @@ packages=(
   clang libclang-rt-dev clang-format clang-tidy
   # optional peers for the work-precision chart
   libbullet-dev libode-dev
-  # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe)
-  xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0
+  # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe); EGL's headers for
+  # the headset renderer's benchmark (no X server)
+  xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl-dev
   # packaging checks
   desktop-file-utils appstream
   # regenerating docs/states.svg from docs/states.dot
