@@ -13,6 +13,7 @@
 #include <QRegularExpression>
 #include <QScreen>
 #include <QSignalSpy>
+#include <QSpinBox>
 #include <QStatusBar>
 #include <QTemporaryDir>
 #include <QWheelEvent>
@@ -33,6 +34,7 @@
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/timeline.hpp"
+#include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
 #include "vaw/units.hpp"
 
@@ -91,6 +93,7 @@ class TestSimulation : public QObject {
   void partOnTheFloorIsPickedUpAndPutBackOnTheTable();
   void shortMemoryGivesUpTheOldestSnapshotsNotTheProcess();
   void carriedNearItsMateThePartShowsTheCaptureZone();
+  void fallingBehindIsShownWithTheRealRate();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -753,6 +756,35 @@ void TestSimulation::carriedNearItsMateThePartShowsTheCaptureZone() {
   const PartState s = world().part(sleeve).state;
   QVERIFY2(s == PartState::OnBaseSlide || s == PartState::OnBaseStatic || s == PartState::Placed, qPrintable(stateOf(world(), sleeve)));
   QTRY_VERIFY_WITH_TIMEOUT(!viewport()->captureZone().has_value(), 2000);
+}
+
+// A world the timer cannot keep up with (5000 steps a second: each 4 ms tick owes 20 steps and may run 5)
+// runs slower than real time: the status bar gives the real rate instead of "1×", and Messages says so
+// once. Back at 90 Hz it catches up and the status bar shows the speed again.
+void TestSimulation::fallingBehindIsShownWithTheRealRate() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  QTest::qWait(2500);  // two seconds of play at 90 Hz: the meter's window
+  QVERIFY2(!sim().isBehind(), qPrintable(window_->statusText()));
+  QVERIFY2(window_->statusText().contains(QStringLiteral(" 1.0× ")), qPrintable(window_->statusText()));
+  auto* methods = window_->methodsDock();
+  methods->show();
+  methods->raise();
+  auto* rate = methods->findChild<QSpinBox*>(QStringLiteral("stepRate"));
+  QVERIFY(rate != nullptr);
+  vaw::guitest::typeInto(rate, QStringLiteral("5000"));
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().rate, 5000.0, 3000);
+  QTRY_VERIFY_WITH_TIMEOUT(sim().isBehind(), 6000);
+  const QString status = window_->statusText();
+  QVERIFY2(status.contains(QRegularExpression(QStringLiteral("0\\.\\d\\d× of real time, "))), qPrintable(status));
+  QVERIFY(sim().realRate() && sim().realRate()->rate < 0.95);
+  const auto* messages = window_->messagesDock()->model();
+  bool said = false;
+  for (int row = 0; row < messages->rowCount(); ++row) said = said || messages->text(row).contains(QStringLiteral("cannot keep up with real time"));
+  QVERIFY2(said, "Messages says the simulation falls behind");
+  screenshot(QStringLiteral("falling-behind.png"));
+  vaw::guitest::typeInto(rate, QStringLiteral("90"));
+  QTRY_VERIFY_WITH_TIMEOUT(!sim().isBehind(), 8000);
+  QVERIFY2(window_->statusText().contains(QStringLiteral(" 1.0× ")), qPrintable(window_->statusText()));
 }
 
 QTEST_MAIN(TestSimulation)

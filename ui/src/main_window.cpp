@@ -925,8 +925,12 @@ QString MainWindow::statusText() const {
 QString MainWindow::rateText() const {
   const auto r = simulation_->realRate();
   if (!r) return tr("%1×").arg(format::number(simulation_->speed(), 2));
-  // Stepping takes most of the wall time: the physics; otherwise what else the thread does, drawing above all.
-  const QString neck = r->steppingShare > 0.5 ? tr("the physics is the bottleneck") : tr("rendering is the bottleneck");
+  // Stepping takes most of the wall time: the physics; the timer's ticks come on time but owe more steps than
+  // one tick runs: the rate; otherwise what else the thread does, drawing above all.
+  const QString neck = r->steppingShare > 0.5        ? tr("the physics is the bottleneck")
+                       : simulation_->cappedShare() > 0.5 ? tr("the rate is more than the workbench steps (at most %1 steps a tick)")
+                                                                .arg(SimulationController::kMaxCatchUp)
+                                                          : tr("rendering is the bottleneck");
   QString text = tr("%1× of real time").arg(QString::number(r->rate, 'f', 2));
   if (std::abs(simulation_->speed() - 1.0) > 1e-9) text += tr(" (%1× asked)").arg(format::number(simulation_->speed(), 2));
   return text + tr(", %1").arg(neck);

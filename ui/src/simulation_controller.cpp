@@ -198,6 +198,7 @@ void SimulationController::pause() {
 void SimulationController::restartRate() {
   rateMeter_.reset();
   steppingNs_ = 0;
+  ticks_ = cappedOnTime_ = 0;
   if (behind_) {
     behind_ = false;
     emit behindChanged(false);
@@ -325,6 +326,13 @@ void SimulationController::tick() {
   accumulator_ += wall * speed_;
   const double h = world().settings().step();
   auto n = static_cast<int>(std::floor(accumulator_ / h));
+  // A tick on time that still owes more steps than it may run: the rate is more than the timer can step.
+  ++ticks_;
+  if (n > kMaxCatchUp && wall < 2e-3 * timer_.interval()) ++cappedOnTime_;
+  if (ticks_ >= 1000) {  // keep the last few seconds' share
+    ticks_ /= 2;
+    cappedOnTime_ /= 2;
+  }
   if (n > kMaxCatchUp) {
     n = kMaxCatchUp;
     accumulator_ = 0.0;  // a stall: drop the time owed rather than run it all at once

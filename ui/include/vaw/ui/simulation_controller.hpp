@@ -127,6 +127,9 @@ class SimulationController : public QObject {
   // (vaw::sim::fallingBehind), which behindChanged announces.
   [[nodiscard]] std::optional<vaw::sim::RateMeter::Reading> realRate() const { return rateMeter_.reading(); }
   [[nodiscard]] bool isBehind() const { return behind_; }
+  // The share of the timer's recent ticks that came on time and still owed more than kMaxCatchUp steps: near
+  // 1 when the world's rate, not the machine, is what the timer cannot keep up with.
+  [[nodiscard]] double cappedShare() const { return ticks_ > 0 ? static_cast<double>(cappedOnTime_) / ticks_ : 0.0; }
 
   // ---- memory ----
   // The machine's available memory in bytes (Linux: MemAvailable in /proc/meminfo); none where unknown.
@@ -204,6 +207,7 @@ class SimulationController : public QObject {
   vaw::sim::RateMeter rateMeter_;
   qint64 steppingNs_ = 0;  // spent stepping since the last sample
   bool behind_ = false;
+  int ticks_ = 0, cappedOnTime_ = 0;
   MemoryProbe memoryProbe_ = &SimulationController::availableMemory;
   qint64 memoryCheckNs_ = 5'000'000'000;
   qint64 lastMemoryCheckNs_ = 0;
