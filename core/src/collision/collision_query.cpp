@@ -1,0 +1,338 @@
+// Filtered pair queries (docs/collision.md, "Filter modes"): the mesh-mesh traversal with the filter in its
+// leaf test, the primitives through FCL's own narrow phase, and distances.
+#include "collision_world_impl.hpp"
+
+namespace vaw::collision {
+
+using detail::runQuery;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------------
+// Mesh-mesh traversal with the filter in the leaf test
+// ---------------------------------------------------------------------------------------------------
+
+struct PairContext {
+  const WorldObject* A = nullptr;
+  const WorldObject* B = nullptr;
+  FilterMode mode = FilterMode::NoCare;
+  QueryOptions opt;
+  Tolerances tol;
+  Eigen::Isometry3d tfA = Eigen::Isometry3d::Identity();  // A's FCL frame -> world
+  QueryResult* out = nullptr;
+  double cosAngle = 1.0;
+  std::vector<signed char> coaxCache;  // per (cylinder of A, cylinder of B): -1 unknown, 0 no, 1 yes
+  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // B frame -> A frame
+  Eigen::Vector3d T = Eigen::Vector3d::Zero();
+  bool stop = false;
+  // Node culling for a support's blocked check (A = the part, B = the base); null when not in force.
+  const std::vector<char>* bBelow = nullptr;
+  // A support's fit with clearance (A = the part, B = the base): these bore-and-shaft pairs are coaxial
+  // with their axes up to `fitClearance` apart (the part rests in its play) and radii that differ.
+  const std::vector<std::pair<int, int>>* fit = nullptr;
+  double fitClearance = 0.0;
+
+  // Every triangle pair of node b1 (of A) and node b2 (of B) would be dropped by the mode.
+  bool skipsWhole(int b1, int b2) {
+    if (mode == FilterMode::SkipCoplanar || (opt.dropTouching && mode != FilterMode::KeepCoplanar)) {
+      const int pa = A->nodePlane[static_cast<std::size_t>(b1)], pb = B->nodePlane[static_cast<std::size_t>(b2)];
+      if (pa >= 0 && pb >= 0 && planesCoincide(pa, pb)) return true;
+    }
+    if (mode == FilterMode::SkipCoaxial) {
+      const int ca = A->nodeCylinder[static_cast<std::size_t>(b1)], cb = B->nodeCylinder[static_cast<std::size_t>(b2)];
+      if (ca >= 0 && cb >= 0 && cylindersCoaxial(ca, cb)) return true;
+      if (rimAgainstCylinder(A->nodePlane[static_cast<std::size_t>(b1)], cb, ca, B->nodePlane[static_cast<std::size_t>(b2)])) return true;
+    }
+    return false;
+  }
+
+  // An end face of one cylinder (planar patch pa of A, or pb of B) against the other's equal, coaxial
+  // cylinder of the opposite kind (a sleeve's end face on its shaft, a shaft's cap in its bore).
+  bool rimAgainstCylinder(int pa, int cb, int ca, int pb) {
+    if (pa >= 0 && cb >= 0)
+      for (int rim : A->patches->planes[static_cast<std::size_t>(pa)].rimOf)
+        if (A->patches->cylinders[static_cast<std::size_t>(rim)].convex != B->patches->cylinders[static_cast<std::size_t>(cb)].convex &&
+            cylindersCoaxial(rim, cb))
+          return true;
+    if (ca >= 0 && pb >= 0)
+      for (int rim : B->patches->planes[static_cast<std::size_t>(pb)].rimOf)
+        if (A->patches->cylinders[static_cast<std::size_t>(ca)].convex != B->patches->cylinders[static_cast<std::size_t>(rim)].convex &&
+            cylindersCoaxial(ca, rim))
+          return true;
+    return false;
+  }
+
+  // Two planar patches' planes are parallel and within the distance tolerance (less both fits' residuals),
+  // so every pair of their triangles is coplanar.
+  bool planesCoincide(int pa, int pb) const {
+    const PlanarPatch& a = A->patches->planes[static_cast<std::size_t>(pa)];
+    const PlanarPatch& b = B->patches->planes[static_cast<std::size_t>(pb)];
+    const Eigen::Vector3d nb = R * b.normal;
+    if (std::abs(a.normal.dot(nb)) < cosAngle) return false;
+    const double room = tol.distance - a.residual - b.residual;
+    return std::abs(a.normal.dot(R * b.origin + T - a.origin)) <= room && std::abs(nb.dot(a.origin - (R * b.origin + T))) <= room;
+  }
+
+  bool coaxial(int ta, int tb) {
+    const int ca = A->patches->cylinderOf[static_cast<std::size_t>(ta)];
+    const int cb = B->patches->cylinderOf[static_cast<std::size_t>(tb)];
+    if (ca >= 0 && cb >= 0) return cylindersCoaxial(ca, cb);
+    return rimAgainstCylinder(A->patches->planeOf[static_cast<std::size_t>(ta)], cb, ca, B->patches->planeOf[static_cast<std::size_t>(tb)]);
+  }
+
+  bool cylindersCoaxial(int ca, int cb) {
+    const std::size_t key = static_cast<std::size_t>(ca) * B->patches->cylinders.size() + static_cast<std::size_t>(cb);
+    if (coaxCache[key] >= 0) return coaxCache[key] == 1;
+    const CylindricalPatch& a = A->patches->cylinders[static_cast<std::size_t>(ca)];
+    const CylindricalPatch& b = B->patches->cylinders[static_cast<std::size_t>(cb)];
+    const Eigen::Vector3d db = R * b.direction;
+    const Eigen::Vector3d pb = R * b.point + T;
+    Eigen::Vector3d off = pb - a.point;
+    off -= a.direction * a.direction.dot(off);
+    const bool inFit = fit && std::find(fit->begin(), fit->end(), std::pair{ca, cb}) != fit->end();
+    const double play = inFit ? fitClearance : 0.0;
+    const bool yes = std::abs(a.direction.dot(db)) >= cosAngle && off.norm() <= tol.distance + tol.radius + play &&
+                     (inFit || std::abs(a.radius - b.radius) <= tol.radius);
+    coaxCache[key] = yes ? 1 : 0;
+    return yes;
+  }
+
+  void record(int primA, int primB, const Tri& p, const Tri& q, bool keepCoplanarMode) {
+    const int ta = A->bvhToMesh[static_cast<std::size_t>(primA)];
+    const int tb = B->bvhToMesh[static_cast<std::size_t>(primB)];
+    const Eigen::Vector3d na = A->patches->normals[static_cast<std::size_t>(ta)];
+    const Eigen::Vector3d nb = R * B->patches->normals[static_cast<std::size_t>(tb)];
+    Contact c;
+    c.a = A->id;
+    c.b = B->id;
+    c.triangleA = ta;
+    c.triangleB = tb;
+    c.coplanar = pairgeom::coplanar(p, na, q, nb, cosAngle, tol.distance);
+    c.allowance = tol.distance + A->sagitta(ta) + B->sagitta(tb);
+    if (keepCoplanarMode) {
+      if (!c.coplanar) return;
+      c.coaxial = coaxial(ta, tb);
+      c.position = tfA * ((p[0] + p[1] + p[2] + q[0] + q[1] + q[2]) / 6.0);
+      c.penetration = 0.0;
+    } else {
+      if (!fcl::detail::Intersect<double>::intersect_Triangle(p[0], p[1], p[2], q[0], q[1], q[2])) return;
+      ++out->intersecting;
+      c.coaxial = coaxial(ta, tb);
+      const bool skip = (mode == FilterMode::SkipCoplanar && c.coplanar) || (mode == FilterMode::SkipCoaxial && c.coaxial);
+      pairgeom::Crossing x;
+      if (!c.coplanar)
+        x = pairgeom::crossing(p, na, A->patches->outlineEdges[static_cast<std::size_t>(ta)], q, nb,
+                               B->patches->outlineEdges[static_cast<std::size_t>(tb)]);
+      c.penetration = x.penetration;
+      // A cylinder's facets lie up to its sagitta inside the true surface, along their own normal: that
+      // much of a depth measured along that normal may be tessellation, not contact.
+      const double along = std::abs(na.dot(nb));
+      const double sa = A->sagitta(ta), sb = B->sagitta(tb);
+      c.allowance = tol.distance + (x.aBinding ? sa * along + sb : sa + sb * along);
+      if (skip || (opt.dropTouching && c.penetration <= c.allowance)) {
+        ++out->filtered;
+        return;
+      }
+      c.position = tfA * (x.crosses ? x.point : Eigen::Vector3d((p[0] + p[1] + p[2]) / 3.0));
+    }
+    out->contacts.push_back(c);
+    if (out->contacts.size() >= opt.maxContacts) {
+      out->truncated = !opt.stopAtFirst;
+      stop = true;
+    }
+    if (opt.stopAtFirst) stop = true;
+  }
+};
+
+class FilteredNode : public BaseNode {
+ public:
+  PairContext* ctx = nullptr;
+  bool keepCoplanar = false;
+
+  void leafTesting(int b1, int b2) const override {
+    ++ctx->out->leafTests;
+    const int i1 = this->model1->getBV(b1).primitiveId();
+    const int i2 = this->model2->getBV(b2).primitiveId();
+    const fcl::Triangle& t1 = this->tri_indices1[i1];
+    const fcl::Triangle& t2 = this->tri_indices2[i2];
+    const Tri p{this->vertices1[t1[0]], this->vertices1[t1[1]], this->vertices1[t1[2]]};
+    const Tri q{ctx->R * this->vertices2[t2[0]] + ctx->T, ctx->R * this->vertices2[t2[1]] + ctx->T,
+                ctx->R * this->vertices2[t2[2]] + ctx->T};
+    ctx->record(i1, i2, p, q, keepCoplanar);
+  }
+  bool canStop() const override { return ctx->stop; }
+  // KEEP_COPLANAR: bounding volumes within the distance tolerance count as overlapping (an inflated test).
+  bool BVTesting(int b1, int b2) const override {
+    ++ctx->out->boundingVolumeTests;
+    if (ctx->bBelow && (*ctx->bBelow)[static_cast<std::size_t>(b2)]) return true;
+    if (ctx->skipsWhole(b1, b2)) return true;
+    if (!keepCoplanar) return BaseNode::BVTesting(b1, b2);
+    return fcl::distance(this->R, this->T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv) > ctx->tol.distance;
+  }
+};
+
+void meshMeshQuery(PairContext& ctx, const Eigen::Isometry3d& poseA, const Eigen::Isometry3d& poseB) {
+  FilteredNode node;
+  fcl::CollisionRequestd req;
+  fcl::CollisionResultd res;
+  const fcl::Transform3d tf1 = ctx.A->fclPose(poseA), tf2 = ctx.B->fclPose(poseB);
+  const Model& m1 = *ctx.A->bvh;
+  const Model& m2 = *ctx.B->bvh;
+  if (!fcl::detail::initialize(static_cast<BaseNode&>(node), m1, tf1, m2, tf2, req, res)) return;
+  ctx.tfA = tf1;
+  ctx.R = node.R;
+  ctx.T = node.T;
+  ctx.cosAngle = std::cos(ctx.tol.angle);
+  ctx.coaxCache.assign(ctx.A->patches->cylinders.size() * ctx.B->patches->cylinders.size(), -1);
+  node.ctx = &ctx;
+  node.keepCoplanar = ctx.mode == FilterMode::KeepCoplanar;
+  fcl::detail::collide(&node, nullptr);
+}
+
+// A mesh triangle (in the box's frame) parallel to a box face and within `distance` of it.
+bool coplanarWithBox(const Tri& t, const Eigen::Vector3d& n, const Eigen::Vector3d& half, double cosAngle, double distance) {
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(n[axis]) < cosAngle) continue;
+    for (double side : {-1.0, 1.0}) {
+      bool near = true;
+      for (const auto& x : t) near = near && std::abs(x[axis] - side * half[axis]) <= distance;
+      if (near) return true;
+    }
+  }
+  return false;
+}
+
+// Anything involving a primitive: FCL's own narrow phase; the coplanar test only against a box's faces.
+void primitiveQuery(const WorldObject& A, const Eigen::Isometry3d& poseA, const WorldObject& B, const Eigen::Isometry3d& poseB,
+                    FilterMode mode, const QueryOptions& opt, const Tolerances& tol, QueryResult& out) {
+  const bool keep = mode == FilterMode::KeepCoplanar;
+  std::shared_ptr<fcl::CollisionGeometryd> gA = A.geometry, gB = B.geometry;
+  // KEEP_COPLANAR counts a gap up to the tolerance: test against the box grown by it.
+  if (keep && A.info.proxy == ProxyKind::Box) gA = std::make_shared<fcl::Boxd>(Eigen::Vector3d(2.0 * (A.boxHalf.array() + tol.distance)));
+  if (keep && B.info.proxy == ProxyKind::Box) gB = std::make_shared<fcl::Boxd>(Eigen::Vector3d(2.0 * (B.boxHalf.array() + tol.distance)));
+  fcl::CollisionRequestd req(std::max<std::size_t>(opt.maxContacts * 4, 64), true);
+  fcl::CollisionResultd res;
+  fcl::collide(gA.get(), A.fclPose(poseA), gB.get(), B.fclPose(poseB), req, res);
+  const double cosAngle = std::cos(tol.angle);
+  std::vector<fcl::Contactd> contacts;
+  res.getContacts(contacts);
+  for (const fcl::Contactd& fc : contacts) {
+    const bool aFirst = fc.o1 == gA.get();
+    const auto bA = static_cast<int>(aFirst ? fc.b1 : fc.b2);
+    const auto bB = static_cast<int>(aFirst ? fc.b2 : fc.b1);
+    Contact c;
+    c.a = A.id;
+    c.b = B.id;
+    c.triangleA = A.bvh && bA >= 0 ? A.bvhToMesh[static_cast<std::size_t>(bA)] : -1;
+    c.triangleB = B.bvh && bB >= 0 ? B.bvhToMesh[static_cast<std::size_t>(bB)] : -1;
+    c.position = fc.pos;
+    c.penetration = std::max(0.0, fc.penetration_depth);
+    c.allowance = tol.distance;
+    // Coplanar: a mesh triangle against a box face.
+    auto meshTriInBox = [&](const WorldObject& meshObj, const Eigen::Isometry3d& meshPose, int tri, const WorldObject& boxObj,
+                            const Eigen::Isometry3d& boxPose) {
+      const Eigen::Isometry3d toBox = boxObj.fclPose(boxPose).inverse() * meshPose;
+      const auto& tr = meshObj.mesh->triangles[static_cast<std::size_t>(tri)];
+      const Tri t{toBox * meshObj.mesh->vertices[static_cast<std::size_t>(tr[0])],
+                  toBox * meshObj.mesh->vertices[static_cast<std::size_t>(tr[1])],
+                  toBox * meshObj.mesh->vertices[static_cast<std::size_t>(tr[2])]};
+      const Eigen::Vector3d n = toBox.linear() * meshObj.patches->normals[static_cast<std::size_t>(tri)];
+      return coplanarWithBox(t, n, boxObj.boxHalf, cosAngle, tol.distance);
+    };
+    if (c.triangleA >= 0 && B.info.proxy == ProxyKind::Box) c.coplanar = meshTriInBox(A, poseA, c.triangleA, B, poseB);
+    if (c.triangleB >= 0 && A.info.proxy == ProxyKind::Box) c.coplanar = meshTriInBox(B, poseB, c.triangleB, A, poseA);
+    if (keep) {
+      if (!c.coplanar) continue;
+      c.penetration = 0.0;
+    } else {
+      ++out.intersecting;
+      const bool skip = mode == FilterMode::SkipCoplanar && c.coplanar;
+      if (skip || (opt.dropTouching && c.penetration <= c.allowance)) {
+        ++out.filtered;
+        continue;
+      }
+    }
+    out.contacts.push_back(c);
+    if (opt.stopAtFirst) break;
+    if (out.contacts.size() >= opt.maxContacts) {
+      out.truncated = true;
+      break;
+    }
+  }
+}
+
+}  // namespace
+
+
+QueryResult CollisionWorld::query(ObjectId a, ObjectId b, const QueryOptions& options) const {
+  return query(a, impl_->get(a).pose, b, options);
+}
+
+QueryResult CollisionWorld::query(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, const QueryOptions& options) const {
+  if (a == b) return {};
+  return runQuery(impl_->tol, impl_->get(a), poseA, impl_->get(b), options, {});
+}
+
+namespace detail {
+QueryResult runQuery(const Tolerances& tol, const WorldObject& A, const Eigen::Isometry3d& poseA, const WorldObject& B,
+                     const QueryOptions& options, const Cull& cull) {
+  QueryResult out;
+  if (!A.geometry || !B.geometry) return out;
+  if (A.bvh && B.bvh) {
+    PairContext ctx;
+    ctx.bBelow = cull.bBelow;
+    ctx.fit = cull.fit;
+    ctx.fitClearance = cull.fitClearance;
+    ctx.A = &A;
+    ctx.B = &B;
+    ctx.mode = options.mode;
+    ctx.opt = options;
+    ctx.opt.maxContacts = std::max<std::size_t>(1, options.maxContacts);
+    ctx.tol = tol;
+    ctx.out = &out;
+    meshMeshQuery(ctx, poseA, B.pose);
+  } else {
+    primitiveQuery(A, poseA, B, B.pose, options.mode, options, tol, out);
+  }
+  return out;
+}
+}  // namespace detail
+
+QueryResult CollisionWorld::queryAll(ObjectId a, const QueryOptions& options) const {
+  QueryResult all;
+  Eigen::AlignedBox3d grown = worldBounds(a);
+  if (grown.isEmpty()) return all;
+  grown.min().array() -= impl_->tol.distance;
+  grown.max().array() += impl_->tol.distance;
+  for (const ObjectId& b : near(grown, a)) {
+    QueryOptions o = options;
+    o.maxContacts = options.maxContacts - std::min(options.maxContacts, all.contacts.size());
+    if (o.maxContacts == 0) {
+      all.truncated = true;
+      break;
+    }
+    QueryResult r = query(a, b, o);
+    all.intersecting += r.intersecting;
+    all.filtered += r.filtered;
+    all.boundingVolumeTests += r.boundingVolumeTests;
+    all.leafTests += r.leafTests;
+    all.truncated = all.truncated || r.truncated;
+    all.contacts.insert(all.contacts.end(), r.contacts.begin(), r.contacts.end());
+    if (options.stopAtFirst && !all.contacts.empty()) break;
+  }
+  return all;
+}
+
+double CollisionWorld::distance(ObjectId a, ObjectId b) const { return distance(a, impl_->get(a).pose, b); }
+
+double CollisionWorld::distance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b) const {
+  const WorldObject& A = impl_->get(a);
+  const WorldObject& B = impl_->get(b);
+  if (!A.geometry || !B.geometry) return std::numeric_limits<double>::infinity();
+  fcl::DistanceRequestd req;
+  fcl::DistanceResultd res;
+  fcl::distance(A.geometry.get(), A.fclPose(poseA), B.geometry.get(), B.fclPose(B.pose), req, res);
+  return std::max(0.0, res.min_distance);
+}
+
+}  // namespace vaw::collision
