@@ -17,7 +17,7 @@
 
 #include "vaw/dynamics/work_precision.hpp"
 #ifdef VAW_HAVE_PEERS
-#include "peers/peers.hpp"
+#include "vaw/peers/peers.hpp"
 #endif
 #ifdef VAW_HAVE_CHARTS
 #include "vaw/ui/work_precision_chart.hpp"

@@ -51,7 +51,7 @@
 #include "vaw/ui/tuning.hpp"
 #include "vaw/ui/viewport.hpp"
 #include "vaw/ui/work_precision_dock.hpp"
-#include "peers/peers.hpp"
+#include "vaw/peers/peers.hpp"
 #include "vaw/units.hpp"
 
 using vaw::PartId;

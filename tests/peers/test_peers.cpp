@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "peers/peers.hpp"
+#include "vaw/peers/peers.hpp"
 
 namespace {
 

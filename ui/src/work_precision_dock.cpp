@@ -17,7 +17,7 @@
 #include <cmath>
 #include <exception>
 
-#include "peers/peers.hpp"
+#include "vaw/peers/peers.hpp"
 #include "vaw/sim/world.hpp"
 #include "vaw/ui/work_precision_chart.hpp"
 

@@ -4,7 +4,7 @@
 #include <string>
 #include <utility>
 
-#include "peers/peers.hpp"
+#include "vaw/peers/peers.hpp"
 
 namespace vaw::peers::detail {
 

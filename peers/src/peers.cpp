@@ -1,10 +1,10 @@
-#include "peers/peers.hpp"
+#include "vaw/peers/peers.hpp"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
-#include "peers/engines.hpp"
+#include "engines.hpp"
 
 namespace vaw::peers {
 

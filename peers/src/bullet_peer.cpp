@@ -8,7 +8,7 @@
 #include <numbers>
 #include <string>
 
-#include "peers/engines.hpp"
+#include "engines.hpp"
 
 namespace vaw::peers::detail {
 

@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "peers/engines.hpp"
+#include "engines.hpp"
 
 namespace vaw::peers::detail {
 
