@@ -597,8 +597,11 @@ void MainWindow::updateCapture() {
     // Drawn just past the part along the mate's axis or normal, where the part does not hide it: seen along
     // that direction, the part's axis must lie inside the ring.
     const Eigen::Vector3d d = hint->direction.normalized();
+    // Per frame: the corners of the part's bounds, not every vertex (a little farther for a turned part).
+    const Eigen::AlignedBox3d box = a.parts[*held].mesh->bounds();
     double past = 0.0;
-    for (const auto& v : a.parts[*held].mesh->vertices) past = std::max(past, d.dot(w.part(*held).pose * v - hint->point));
+    for (int k = 0; k < 8; ++k)
+      past = std::max(past, d.dot(w.part(*held).pose * box.corner(static_cast<Eigen::AlignedBox3d::CornerType>(k)) - hint->point));
     zone = Viewport::CaptureZone{c.type == vaw::Constraint::Type::Insert, hint->point + d * (past + 0.5 * st.recognizeDistance), d,
                                  st.recognizeDistance, hint->captures};
   }
