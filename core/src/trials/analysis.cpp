@@ -131,8 +131,16 @@ PsychometricFit fitPsychometric(const std::vector<Judged>& data, const AnalysisO
     fit.problem = "every trial at one scale: no curve can be fitted";
     return fit;
   }
+  // Which side of the tested scales the PSE lies on is what the experimenter needs to mend the design.
+  const auto beyond = [&](bool above) {
+    std::ostringstream o;
+    o.precision(3);
+    o << "the PSE lies " << (above ? "above " : "below ") << std::exp(above ? levels.back().x : levels.front().x) << ", the "
+      << (above ? "highest" : "lowest") << " scale tested: add " << (above ? "higher" : "lower") << " scales to the design";
+    return o.str();
+  };
   if (faster == 0 || faster == fit.trials) {
-    fit.problem = std::string("every answer ") + (faster == 0 ? "\"slower\"" : "\"faster\"") + ": the PSE lies outside the tested scales";
+    fit.problem = std::string("every answer ") + (faster == 0 ? "\"slower\": " : "\"faster\": ") + beyond(faster == 0);
     return fit;
   }
   const double lapse = options.lapse;
@@ -154,7 +162,7 @@ PsychometricFit fitPsychometric(const std::vector<Judged>& data, const AnalysisO
   fit.sigmaLog = std::exp(atBest.logSigma);
   fit.logLikelihood = -atBest.nll;
   if (best == 0 || best == kPseGrid - 1) {
-    fit.problem = "the PSE lies outside the tested scales";
+    fit.problem = "the answers do not turn between the scales tested: " + beyond(best != 0);
     return fit;
   }
   // Profile-likelihood interval: every PSE whose profile deviance is within the chi-square(1) quantile.
@@ -268,8 +276,15 @@ std::vector<ConditionAnalysis> analyze(const std::vector<ResultsFile>& files, co
       pr.perScale = summarize(records);
       if (d0.question.answers == AnswerKind::Setting) pr.settings = estimateSettings(settings, options);
       else pr.fit = fitPsychometric(judged, options);
-      if (!pr.estimate())
-        ca.notes.push_back("participant " + participant + ": no estimate: " + (pr.fit ? pr.fit->problem : pr.settings->problem));
+      if (!pr.estimate()) {
+        std::ostringstream note;
+        note << "participant " << participant << ": no estimate: " << (pr.fit ? pr.fit->problem : pr.settings->problem);
+        // With two intervals "slower" reads as the participant's own fall; say it in the question's terms.
+        if (d0.question.answers == AnswerKind::TwoInterval)
+          note << " (\"slower\" is a trial whose reference, scale " << d0.question.referenceScale
+               << ", was judged the faster; the PSE is the scale that looks as fast as the reference)";
+        ca.notes.push_back(note.str());
+      }
       everyone.insert(everyone.end(), judged.begin(), judged.end());
       allRecords.insert(allRecords.end(), records.begin(), records.end());
       ca.participants.push_back(std::move(pr));
