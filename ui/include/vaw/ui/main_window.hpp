@@ -105,27 +105,47 @@ class MainWindow : public QMainWindow {
   void dropEvent(QDropEvent* event) override;
 
  private:
-  void createMenus();
-  void assemblyLoaded();
-  void simulationStarted();
+  // main_window.cpp: the docks in their places.
+  void createDocks();
+  void message(int severity, const QString& text, const QString& detail = {});
+  // main_window_docks.cpp: each dock's wiring, with the handlers that serve it alone.
+  void wireViewport();
   void showSelection(std::optional<vaw::PartId> part);
+  void wirePart();
+  void wireControls();
+  void wireMotion();
+  void wireTimeline();
+  void logChanged();
+  void wireTrials();
+  // A blinded trials session: the gravity panel, the Messages log and the timeline's edit lane keep the
+  // trial's scale to themselves, and the panels that show the fall's speed or duration close until it ends.
+  void setBlinded(bool blinded);
+  void wireConstraints();
+  void wireXr();
+  // main_window_tuning.cpp
+  void wireTuning();
+  // A tuning edit from a panel: refused with the rule it breaks, or pushed on the undo stack.
+  void requestTuning(const vaw::sim::Edit& edit, int mergeKey);
+  void updateTuning(const std::optional<vaw::sim::StabilityAdvice>& advice);
+  // main_window_simulation.cpp
+  void wireSimulation();
+  void simulationStarted();
   void frameReady();
   void updateLive();
+  // main_window_status.cpp
+  void createStatusBar();
   // While the mouse's hand carries a part near its mate: the capture zone in the viewport and, in the
   // status bar, how near a release must be.
   void updateCapture();
   void updateStatus();
-  void logChanged();
-  void message(int severity, const QString& text, const QString& detail = {});
-  // A tuning edit from a panel: refused with the rule it breaks, or pushed on the undo stack.
-  void requestTuning(const vaw::sim::Edit& edit, int mergeKey);
-  void updateTuning(const std::optional<vaw::sim::StabilityAdvice>& advice);
-  // A blinded trials session: the gravity panel, the Messages log and the timeline's edit lane keep the
-  // trial's scale to themselves, and the panels that show the fall's speed or duration close until it ends.
-  void setBlinded(bool blinded);
+  // main_window_files.cpp
+  void wireLoading();
+  void assemblyLoaded();
+  void updateTitle();
+  // main_window_menus.cpp
+  void createMenus();
   void addRecent(const QString& path);
   void updateRecentMenu();
-  void updateTitle();
   void showAbout();
   void showBindings();
 

@@ -1,0 +1,263 @@
+// Opening and saving: what a loaded file starts, File > Save (the scene with its tuning), the session, and
+// asking before unsaved tuning is dropped.
+#include "vaw/ui/main_window.hpp"
+
+#include <QAction>
+#include <QDragEnterEvent>
+#include <QDropEvent>
+#include <QFile>
+#include <QFileDialog>
+#include <QFileInfo>
+#include <QInputDialog>
+#include <QMessageBox>
+#include <QMimeData>
+#include <QSettings>
+#include <QStatusBar>
+#include <QUndoStack>
+#include <QUrl>
+#include <filesystem>
+
+#include "format.hpp"
+#include "vaw/error.hpp"
+#include "vaw/sim/scene_file.hpp"
+#include "vaw/sim/session.hpp"
+#include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/docks.hpp"
+#include "vaw/ui/message_log_model.hpp"
+#include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/trials_panel.hpp"
+#include "vaw/ui/viewport.hpp"
+
+namespace vaw::ui {
+
+namespace {
+bool isSceneFile(const QString& path) { return path.endsWith(QStringLiteral(".json"), Qt::CaseInsensitive) && !path.endsWith(QStringLiteral(".vaw-session.json")); }
+}
+
+void MainWindow::wireLoading() {
+  connect(&controller_, &AssemblyController::assemblyLoaded, this, &MainWindow::assemblyLoaded);
+  connect(&controller_, &AssemblyController::loadStarted, this, [this](const QString& path) {
+    statusBar()->showMessage(tr("Opening %1...").arg(path));
+  });
+  connect(&controller_, &AssemblyController::loadFailed, this, [this](const LoadFailure& failure) {
+    QStringList detail{tr("File: %1").arg(failure.file.isEmpty() ? failure.path : failure.file)};
+    if (!failure.field.isEmpty()) detail << tr("Field: %1").arg(failure.field);
+    if (!failure.expected.isEmpty()) detail << tr("Expected: %1").arg(failure.expected);
+    if (!failure.found.isEmpty()) detail << tr("Found: %1").arg(failure.found);
+    messagesDock_->model()->add(MessageLogModel::Severity::Error, failure.message, detail.join(QLatin1Char('\n')));
+    statusBar()->showMessage(tr("Could not open %1").arg(QFileInfo(failure.path).fileName()));
+  });
+  connect(&controller_, &AssemblyController::loadCancelled, this, [this](const QString& path) {
+    statusBar()->showMessage(tr("Opening %1 cancelled").arg(QFileInfo(path).fileName()));
+  });
+}
+
+void MainWindow::assemblyLoaded() {
+  const vaw::Assembly* assembly = controller_.assembly();
+  const bool edited = controller_.isEditReload();  // its constraints changed: the same file, already announced
+  const bool wasPlaying = simulation_->isPlaying();
+  const std::string keepName = selectedName_;
+  const QString keepFrom = selectedFrom_;
+  reloadAction_->setEnabled(true);
+  std::optional<vaw::sim::Session> session = controller_.takeSession();
+  bool playback = false;
+  if (session) {
+    try {
+      simulation_->startPlayback(controller_.scene(), std::move(*session));
+      playback = true;
+    } catch (const vaw::InputError& e) {
+      message(static_cast<int>(MessageLogModel::Severity::Error), tr("The session cannot be played: %1").arg(e.what()));
+    }
+  }
+  // A scene starts with the tuning its settings block saved.
+  if (!playback)
+    simulation_->start(controller_.scene(), controller_.sceneReference(), vaw::sim::settingsFor(controller_.scene()->assembly()));
+  sceneDock_->setAssembly(assembly, controller_.collisionInfo());
+  partDock_->showPart(assembly, std::nullopt);
+  if (assembly == nullptr) return;
+  // After a reload, the part that was selected stays selected (by name: ids may change).
+  if (!keepName.empty() && keepFrom == controller_.currentPath()) viewport_->selectPart(assembly->findPart(keepName));
+  if (!edited) scenePath_ = isSceneFile(controller_.currentPath()) ? controller_.currentPath() : QString();
+  saveAction_->setEnabled(true);
+  saveAsAction_->setEnabled(true);
+  if (edited) {
+    updateTitle();
+    if (wasPlaying) simulation_->play();
+    return;
+  }
+  addRecent(controller_.currentPath());
+  for (const auto& warning : assembly->warnings) messagesDock_->model()->add(warning);
+  updateTitle();
+  const QString summary = tr("Opened %1: %n part(s)", nullptr, static_cast<int>(assembly->parts.size()))
+                              .arg(QFileInfo(controller_.currentPath()).fileName()) +
+                          tr(", %n triangle(s)", nullptr, static_cast<int>(assembly->totalTriangles())) +
+                          (assembly->warnings.empty()
+                               ? QString()
+                               : tr(", %n warning(s) (see Messages)", nullptr,
+                                    static_cast<int>(assembly->warnings.size())));
+  messagesDock_->model()->add(MessageLogModel::Severity::Info, summary, controller_.currentPath());
+  statusBar()->showMessage(playback ? tr("Opened a session of %1 s: press Play to watch it")
+                                          .arg(format::number(simulation_->recorder().endTime()))
+                                    : summary);
+  if (!playback && autoPlay_) simulation_->play();
+}
+
+void MainWindow::openFileDialog() {
+  const QString start =
+      controller_.currentPath().isEmpty() ? QString() : QFileInfo(controller_.currentPath()).absolutePath();
+  QStringList filters = controller_.fileDialogFilters();
+  filters.insert(1, tr("Sessions (*.vaw-session.json)"));
+  const QString path = QFileDialog::getOpenFileName(this, tr("Open scene, mesh or session"), start,
+                                                    filters.join(QStringLiteral(";;")));
+  if (!path.isEmpty()) openFile(path);
+}
+
+void MainWindow::openFile(const QString& path) {
+  if (!maybeSave()) return;
+  controller_.open(path);
+}
+
+void MainWindow::dragEnterEvent(QDragEnterEvent* event) {
+  const QList<QUrl> urls = event->mimeData()->urls();
+  if (!urls.isEmpty() && urls.front().isLocalFile()) event->acceptProposedAction();
+}
+
+// A file dropped on the window opens as File > Open would open it (a scene, a mesh, a STEP file, a session).
+void MainWindow::dropEvent(QDropEvent* event) {
+  const QList<QUrl> urls = event->mimeData()->urls();
+  if (urls.isEmpty() || !urls.front().isLocalFile()) return;
+  event->acceptProposedAction();
+  openFile(urls.front().toLocalFile());
+}
+
+void MainWindow::stepDeflectionDialog() {
+  bool ok = false;
+  const double value = QInputDialog::getDouble(
+      this, tr("STEP tessellation"),
+      tr("Chordal deflection as a fraction of each part's size\n(smaller is finer: more triangles, slower collision)"),
+      controller_.loadOptions().import.relativeDeflection, 0.0001, 0.05, 4, &ok);
+  if (ok) setStepDeflection(value);
+}
+
+void MainWindow::setStepDeflection(double relative) {
+  vaw::LoadOptions options = controller_.loadOptions();
+  options.import.relativeDeflection = relative;
+  controller_.setLoadOptions(options);
+  QSettings().setValue(QStringLiteral("import/relativeDeflection"), relative);
+  const vaw::Assembly* a = controller_.assembly();
+  const QString text = tr("STEP tessellation: deflection %1 of each part's size").arg(relative);
+  message(static_cast<int>(MessageLogModel::Severity::Info), text);
+  statusBar()->showMessage(text, 8000);
+  // The open STEP assembly is tessellated anew, asking first about unsaved changes.
+  if (a != nullptr && !a->cadFile.empty() && maybeSave()) controller_.reload();
+}
+
+bool MainWindow::save() {
+  if (savingWaitsForTrials()) return false;
+  if (scenePath_.isEmpty()) return saveAs();
+  return saveScene(scenePath_);
+}
+
+bool MainWindow::saveAs() {
+  if (!simulation_->hasWorld() || savingWaitsForTrials()) return false;
+  const vaw::Assembly& loaded = simulation_->world().assembly();
+  // A CAD file is saved as a scene that refers to it (vaw::sim::saveScene).
+  const bool cad = !loaded.cadFile.empty();
+  if (!cad && !isSceneFile(QFile::decodeName(loaded.source.string().c_str()))) {
+    const QString text = tr("Only a scene (.vaw.json) can be saved with its tuning; %1 is not one. Save the session instead.")
+                             .arg(QFile::decodeName(loaded.source.filename().string().c_str()));
+    message(static_cast<int>(MessageLogModel::Severity::Warning), text);
+    statusBar()->showMessage(text, 10000);
+    return false;
+  }
+  QString start = scenePath_.isEmpty() ? QFile::decodeName(loaded.source.string().c_str()) : scenePath_;
+  if (cad && scenePath_.isEmpty()) {
+    std::filesystem::path next = loaded.cadFile;
+    start = QFile::decodeName(next.replace_extension(".vaw.json").string().c_str());
+  }
+  QString file = QFileDialog::getSaveFileName(this, tr("Save scene with its tuning"), start, tr("Scenes (*.vaw.json)"));
+  if (file.isEmpty()) return false;
+  if (!file.endsWith(QStringLiteral(".json"))) file += QStringLiteral(".vaw.json");
+  return saveScene(file);
+}
+
+bool MainWindow::saveScene(const QString& file) {
+  if (!simulation_->hasWorld()) return false;
+  try {
+    vaw::sim::saveScene(simulation_->world().assembly(), simulation_->world(),
+                        std::filesystem::path(QFile::encodeName(file).toStdString()));
+  } catch (const std::exception& e) {  // vaw::InputError, or vaw::OutputError when the disk refuses it
+    const QString text = tr("Could not save the scene: %1").arg(QString::fromUtf8(e.what()));
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    statusBar()->showMessage(text, 10000);
+    return false;
+  }
+  scenePath_ = file;
+  undoStack_->setClean();
+  addRecent(file);
+  const QString text = tr("Saved the scene with its tuning to %1").arg(file);
+  message(static_cast<int>(MessageLogModel::Severity::Info), text);
+  statusBar()->showMessage(text, 8000);
+  updateTitle();
+  return true;
+}
+
+bool MainWindow::maybeSave() {
+  if (!hasUnsavedChanges()) return true;
+  QMessageBox box(QMessageBox::Warning, tr("Unsaved tuning"),
+                  tr("The gravity, friction or method settings were changed and not saved."),
+                  QMessageBox::Save | QMessageBox::Discard | QMessageBox::Cancel, this);
+  box.setObjectName(QStringLiteral("unsavedChangesBox"));
+  box.setInformativeText(tr("Save them with the scene?"));
+  box.setDefaultButton(QMessageBox::Save);
+  switch (box.exec()) {
+    case QMessageBox::Save: return save();
+    case QMessageBox::Discard: return true;
+    default: return false;
+  }
+}
+
+bool MainWindow::hasUnsavedChanges() const { return !undoStack_->isClean(); }
+
+void MainWindow::updateTitle() {
+  const vaw::Assembly* assembly = controller_.assembly();
+  QString name = assembly == nullptr ? QString() : QString::fromStdString(assembly->name);
+  if (name.isEmpty()) name = QFileInfo(controller_.currentPath()).fileName();
+  setWindowTitle(name.isEmpty() ? tr("vaw") : tr("%1[*] - vaw").arg(name));
+  setWindowModified(hasUnsavedChanges());
+}
+
+bool MainWindow::savingWaitsForTrials() {
+  if (!trialsDock_->running()) return false;
+  const QString text = tr("Nothing was saved: a trials session is running, and the world plays the trial's scale, not the "
+                          "scene's. Stop the session first (its answers are on disk, and Start resumes it).");
+  message(static_cast<int>(MessageLogModel::Severity::Warning), text);
+  statusBar()->showMessage(text, 10000);
+  return true;
+}
+
+void MainWindow::saveSessionDialog() {
+  if (!simulation_->hasWorld() || savingWaitsForTrials()) return;
+  const QString file = QFileDialog::getSaveFileName(this, tr("Save session"), QStringLiteral("session.vaw-session.json"),
+                                                    tr("Sessions (*.vaw-session.json)"));
+  if (!file.isEmpty()) saveSession(file);
+}
+
+bool MainWindow::saveSession(const QString& file) {
+  if (!simulation_->hasWorld()) return false;
+  try {
+    vaw::sim::saveSession(simulation_->recorder().session(), std::filesystem::path(QFile::encodeName(file).toStdString()));
+    const QString text = tr("Saved the session (%1 s, %2 steps) to %3")
+                             .arg(format::number(simulation_->recorder().endTime()))
+                             .arg(simulation_->recorder().length())
+                             .arg(file);
+    message(static_cast<int>(MessageLogModel::Severity::Info), text);
+    statusBar()->showMessage(text, 8000);
+    return true;
+  } catch (const std::exception& e) {  // vaw::OutputError too: a full disk must not take the window down
+    message(static_cast<int>(MessageLogModel::Severity::Error), tr("Could not save the session: %1").arg(e.what()));
+    return false;
+  }
+}
+
+}  // namespace vaw::ui
