@@ -93,7 +93,14 @@ class TrialsDock : public QDockWidget {
   void viewRequested(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre);
 
  private:
+  // trials_panel.cpp: the form and what the controls show.
+  void showProblem(const QString& text);
+  void showNotice(const QString& text);
+  void updateControls();
+  // trials_panel_session.cpp: the session's buttons and keys, and the controllers it follows.
+  void wireSession();
   void begin(std::unique_ptr<trials::Runner> runner);
+  [[nodiscard]] QString scenePath(trials::Scenario scenario) const;
   void sceneLoaded();
   void startTrial();
   void present(double scale);
@@ -103,11 +110,9 @@ class TrialsDock : public QDockWidget {
   void finish();
   void endSession();
   void restoreGravity();
-  void showProblem(const QString& text);
-  void showNotice(const QString& text);
-  void updateControls();
+  // trials_panel_analysis.cpp
+  QWidget* createAnalysisTab();
   void showAnalysis(const std::vector<trials::ResultsFile>& files);
-  [[nodiscard]] QString scenePath(trials::Scenario scenario) const;
 
   SimulationController& simulation_;
   AssemblyController& assembly_;
