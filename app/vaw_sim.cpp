@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "evaluate_command.hpp"
 #include "run_command.hpp"
 #include "trials_command.hpp"
 #include "work_precision_command.hpp"
@@ -246,6 +247,16 @@ int dispatch(int argc, char** argv) {
     command = [&] { return vaw::app::run(run); };
   });
 
+  vaw::app::EvaluateArgs ev;
+  CLI::App* evCmd = app.add_subcommand(
+      "evaluate", "Which order puts an assembly together (a scene, a STEP file or a mesh file): every part's ways home "
+                  "swept through the assembly, the precedence between parts, an order, and the parts no order can "
+                  "put in place with what blocks them (docs/evaluation.md). One process per input: a folder goes "
+                  "through GNU parallel or a Slurm job array.");
+  evCmd->add_option("FILE", ev.file, "Scene, STEP or mesh file, or a bundled scene by its name")->required();
+  evCmd->add_flag("--json", ev.json, "Print JSON");
+  evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
+
   vaw::app::WorkPrecisionArgs wp;
   bool noPeers = false;
   CLI::App* wpCmd = app.add_subcommand(
@@ -311,7 +322,7 @@ int dispatch(int argc, char** argv) {
     }
     std::string problem = e.what();
     if (where == "vaw-sim" && argc > 1 && argv[1][0] != '-')
-      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, work-precision, trials)";
+      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, evaluate, work-precision, trials)";
     std::fprintf(stderr, "%s: %s\nRun %s --help for the usage.\n", where.c_str(), problem.c_str(), where.c_str());
     return 2;
   }

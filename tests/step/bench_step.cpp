@@ -1,7 +1,7 @@
 // How long a STEP assembly takes to be ready to assemble (docs/benchmarks.md, "STEP import"): the reader
 // process (parse, transfer, tessellation, B-rep mass properties), the whole load (that plus welding,
 // checks, constraint recognition and the layout), that plus the collision geometry the world runs on,
-// and recognition alone; for the bundled sample and for
+// recognition alone, and the assembly sequence found from the geometry; for the bundled sample and for
 // 100-part assemblies the fixtures write (shared products, and every part a product of its own).
 #include <benchmark/benchmark.h>
 
@@ -10,6 +10,7 @@
 #include "step_fixtures.hpp"
 #include "vaw/cad_assembly.hpp"
 #include "vaw/constraint_recognition.hpp"
+#include "vaw/evaluation/sequence.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
 
@@ -79,10 +80,22 @@ void BM_Recognition(benchmark::State& state) {
   state.counters["parts"] = static_cast<double>(parts.size());
 }
 
+// Feasibility and order (docs/evaluation.md): the collision world at the final poses, every part's ways
+// home swept against what they reach, and assembly by disassembly.
+void BM_PlanSequence(benchmark::State& state) {
+  const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
+  vaw::eval::SequencePlan plan;
+  for (auto _ : state) benchmark::DoNotOptimize(plan = vaw::eval::planSequence(a));
+  state.counters["parts"] = static_cast<double>(a.parts.size());
+  state.counters["sweeps"] = plan.sweeps;
+  state.counters["ordered"] = static_cast<double>(plan.order.size());
+}
+
 }  // namespace
 
 BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

@@ -227,4 +227,32 @@ void writeEdgeTouchingBoxes(const std::filesystem::path& file) {
   w.write(file, "AP214", false);
 }
 
+void writePegUnderCover(const std::filesystem::path& file) {
+  Writer w;
+  const TDF_Label root = w.assembly("peg-under-cover");
+  // Plate 80 x 80 x 10 mm with a blind hole r 5 mm, z 2..10; the peg r 5 mm stands z 2..22; the cover's
+  // pocket (20 x 20 mm, up to z 25) leaves 3 mm over the peg.
+  TopoDS_Shape plate = unify(cut(box(-40, -40, 0, 40, 40, 10), cylinder(0, 0, 2, 5, 9)));
+  TopoDS_Shape cover = unify(cut(box(-20, -20, 0, 20, 20, 20), box(-10, -10, -1, 10, 10, 15)));
+  w.instance(root, w.product("plate", plate, {0.6, 0.6, 0.62}), "plate", at(40, 40, 0));
+  w.instance(root, w.product("peg", cylinder(0, 0, 0, 5, 20), {0.8, 0.65, 0.2}), "peg", at(40, 40, 2));
+  w.instance(root, w.product("cover", cover, {0.2, 0.35, 0.8}), "cover", at(40, 40, 10));
+  w.write(file, "AP214", false);
+}
+
+void writeCaptiveRing(const std::filesystem::path& file) {
+  Writer w;
+  const TDF_Label root = w.assembly("captive-ring");
+  // Base: plate 60 x 60 x 10 mm, shaft r 5 mm z 10..50, flange r 12 mm z 50..55. The ring (r 5..10 mm,
+  // 10 mm high) sits on the plate round the shaft; the cap (a disc r 12 mm) lies on the flange.
+  BRepAlgoAPI_Fuse shaft(box(-30, -30, 0, 30, 30, 10), cylinder(0, 0, 10, 5, 40));
+  if (!shaft.IsDone()) throw std::runtime_error("step fixtures: boolean fuse failed");
+  BRepAlgoAPI_Fuse flange(shaft.Shape(), cylinder(0, 0, 50, 12, 5));
+  if (!flange.IsDone()) throw std::runtime_error("step fixtures: boolean fuse failed");
+  w.instance(root, w.product("base", unify(flange.Shape()), {0.6, 0.6, 0.62}), "base", at(30, 30, 0));
+  w.instance(root, w.product("ring", tube(5, 10, 10), {0.8, 0.65, 0.2}), "ring", at(30, 30, 10));
+  w.instance(root, w.product("cap", cylinder(0, 0, 0, 12, 4), {0.2, 0.35, 0.8}), "cap", at(30, 30, 55));
+  w.write(file, "AP214", false);
+}
+
 }  // namespace vaw::steptest

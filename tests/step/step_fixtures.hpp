@@ -21,5 +21,11 @@ void writeBoltedBracket(const std::filesystem::path& file, const FixtureOptions&
 void writeManyParts(const std::filesystem::path& file, int count, bool distinctProducts = false);
 // Two boxes 20 mm cubes that touch only along one edge (a pair that must give no constraint).
 void writeEdgeTouchingBoxes(const std::filesystem::path& file);
+// A peg in a blind hole of a plate under a cover that hides it: the peg can only go in before the cover
+// ("plate", "peg", "cover"; the peg's top 3 mm under the cover's pocket ceiling).
+void writePegUnderCover(const std::filesystem::path& file);
+// A ring on a base whose shaft has a flange at its top: the ring can come home along its axis from neither
+// end ("base", "ring", and a free "cap" on the flange).
+void writeCaptiveRing(const std::filesystem::path& file);
 
 }  // namespace vaw::steptest

@@ -354,6 +354,15 @@ void findCylinders(const Topology& topo, SurfacePatches& out) {
           const double r = d.norm();
           ok = ok && (c.convex ? r <= c.radius + tol : r >= c.radius - tol);
         }
+      // A disc's outline is its rim circle alone, so a blind bore's bottom would pass as a sleeve's end:
+      // the face itself (its triangles' centroids) must lie on the material's side too.
+      for (int t : p.triangles) {
+        if (!ok) break;
+        const TriMesh& m = topo.welded;
+        Eigen::Vector3d d = (vertexOf(m, t, 0) + vertexOf(m, t, 1) + vertexOf(m, t, 2)) / 3.0 - c.point;
+        d -= c.direction * c.direction.dot(d);
+        ok = c.convex ? d.norm() <= c.radius + tol : d.norm() >= c.radius - tol;
+      }
       if (ok) p.rimOf.push_back(static_cast<int>(ci));
     }
   }

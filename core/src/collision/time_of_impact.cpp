@@ -194,4 +194,66 @@ MotionEvent firstEventOnBase(const CollisionWorld& world, const Support& support
   return ev;
 }
 
+MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId obstacle, const Motion& motion,
+                         FilterMode mode, const ToiOptions& options) {
+  MotionEvent ev;
+  ev.s = ev.sEvent = motion.s1;
+  const double L = motion.speedBound;
+  QueryOptions q;
+  q.mode = mode;
+  q.maxContacts = 8;
+  q.dropTouching = true;
+  q.stopAtFirst = true;
+  auto isBlocked = [&](double s) {
+    ++ev.evaluations;
+    return !world.query(mover, motion.pose(s), obstacle, q).contacts.empty();
+  };
+  auto finish = [&](double lo, double hi) {
+    ev.kind = EventKind::Blocked;
+    ev.s = lo;
+    ev.sEvent = hi;
+    ev.other = obstacle;
+    QueryOptions all = q;
+    all.stopAtFirst = false;
+    ev.contacts = world.query(mover, motion.pose(hi), obstacle, all).contacts;
+    return ev;
+  };
+  if (isBlocked(motion.s0)) {
+    ev.initiallyBlocked = true;
+    return finish(motion.s0, motion.s0);
+  }
+  if (motion.s1 <= motion.s0 || L <= 0.0) return ev;
+  double s = motion.s0;
+  // A distance query between parts in contact is the costliest check there is, and sliding parts stay in
+  // contact: after each near one, the next few steps are sampled without asking, twice as many each time.
+  int unasked = 0, skipNext = 1;
+  for (int it = 0; it < options.maxIterations && s < motion.s1; ++it) {
+    if (unasked > 0) {
+      --unasked;
+    } else {
+      ++ev.evaluations;
+      const double gap = world.distance(mover, motion.pose(s), obstacle);
+      // No point moves faster than L: nothing meets before the gap less half the tolerance is closed.
+      if (gap - 0.5 * options.tolerance >= options.maxStep) {
+        s = std::min(motion.s1, s + (gap - 0.5 * options.tolerance) / L);
+        skipNext = 1;
+        continue;
+      }
+      unasked = skipNext;
+      skipNext = std::min(2 * skipNext, 64);
+    }
+    const double next = std::min(motion.s1, s + options.maxStep / L);
+    if (isBlocked(next)) {
+      double lo = s, hi = next;
+      for (int b = 0; b < options.maxIterations && (hi - lo) * L > options.tolerance; ++b) {
+        const double mid = 0.5 * (lo + hi);
+        (isBlocked(mid) ? hi : lo) = mid;
+      }
+      return finish(lo, hi);
+    }
+    s = next;
+  }
+  return ev;
+}
+
 }  // namespace vaw::collision

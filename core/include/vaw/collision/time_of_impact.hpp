@@ -77,4 +77,13 @@ MotionEvent timeOfImpact(const CollisionWorld& world, ObjectId mover, const Moti
 MotionEvent firstEventOnBase(const CollisionWorld& world, const Support& support, const Motion& motion,
                              const ToiOptions& options = {});
 
+// One pair: where along the motion `mover` is first blocked by `obstacle` (assembly evaluation: a part's way
+// out of, or home into, an assembly). Pairs that only touch never block, and `mode` filters the pairs the
+// motion slides along (SkipCoaxial for an insert's axis, SkipCoplanar for a face). Conservative advancement
+// on the pair's distance while they are more than a maxStep apart, so a long way through free space costs a
+// few distance queries; within a maxStep, the blocked check every maxStep of motion, then bisection to the
+// tolerance (while they stay close, the distance is asked after 1, 2, 4 ... 64 such steps). Blocked at s0 (the two interfere where the motion starts): `initiallyBlocked`.
+MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId obstacle, const Motion& motion,
+                         FilterMode mode, const ToiOptions& options = {});
+
 }  // namespace vaw::collision

@@ -1,0 +1,182 @@
+#include "evaluate_command.hpp"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "vaw/evaluation/sequence.hpp"
+#include "vaw/paths.hpp"
+#include "vaw/scene_loader.hpp"
+
+namespace vaw::app {
+
+namespace {
+
+using nlohmann::json;
+
+// "down", "up" or the components: how a part comes home (along -out).
+std::string travel(const Eigen::Vector3d& out) {
+  const Eigen::Vector3d in = -out;
+  const char* axes[] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(std::abs(in[i]) - 1.0) < 1e-6) {
+      if (i == 2) return in[i] < 0 ? "down" : "up";
+      return std::string(in[i] < 0 ? "along -" : "along +") + axes[i];
+    }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "along (%.3f, %.3f, %.3f)", in.x(), in.y(), in.z());
+  return buf;
+}
+
+std::string blockers(const Assembly& a, const eval::Direction& d) {
+  if (d.blockers.empty()) return "free";
+  std::string s = "blocked by";
+  for (std::size_t i = 0; i < d.blockers.size(); ++i) {
+    char buf[160];
+    const auto& b = d.blockers[i];
+    // Within a twentieth of a millimetre: the two touch at home (the search locates a block to 0.01 mm).
+    if (b.distance < 5e-5) std::snprintf(buf, sizeof buf, "%s %s at once", i ? "," : "", a.parts[b.by].name.c_str());
+    else std::snprintf(buf, sizeof buf, "%s %s after %.1f mm", i ? "," : "", a.parts[b.by].name.c_str(), 1e3 * b.distance);
+    s += buf;
+  }
+  return s;
+}
+
+json toJson(const Assembly& a, const eval::SequencePlan& plan, double seconds) {
+  json j;
+  j["assembly"] = a.name;
+  j["base"] = a.parts[*plan.base].name;
+  j["complete"] = plan.complete();
+  json order = json::array();
+  for (std::size_t i = 0; i < plan.order.size(); ++i) {
+    const PartId p = plan.order[i];
+    json e{{"part", a.parts[p].name}, {"step", plan.step[i]}};
+    if (const auto* way = plan.wayOf(p)) e["comes_home"] = {{"from", way->from}, {"direction", {-way->out.x(), -way->out.y(), -way->out.z()}}};
+    json after = json::array();
+    for (const auto& e2 : plan.precedence)
+      if (e2.after == p)
+        after.push_back({{"part", a.parts[e2.before].name}, {"reason", e2.reason == eval::Precedence::Reason::Partner ? "partner" : "blocks"}});
+    e["after"] = after;
+    order.push_back(e);
+  }
+  j["order"] = order;
+  json checks = json::array();
+  for (const auto& c : plan.checks) {
+    json dirs = json::array();
+    for (const auto& d : c.directions) {
+      json bs = json::array();
+      for (const auto& b : d.blockers) bs.push_back({{"part", a.parts[b.by].name}, {"distance_m", b.distance}});
+      dirs.push_back({{"from", d.from}, {"direction", {-d.out.x(), -d.out.y(), -d.out.z()}}, {"blockers", bs}});
+    }
+    checks.push_back({{"part", a.parts[c.part].name}, {"ways_home", dirs}});
+  }
+  j["parts"] = checks;
+  json stuck = json::array();
+  for (const auto& s : plan.stuck) {
+    json e{{"part", a.parts[s.part].name}};
+    json per = json::array();
+    for (const auto& by : s.blockers) {
+      json names = json::array();
+      for (const PartId b : by) names.push_back(a.parts[b].name);
+      per.push_back(names);
+    }
+    e["blocked_by"] = per;
+    json waits = json::array();
+    for (const PartId w : s.waitsFor) waits.push_back(a.parts[w].name);
+    e["waits_for"] = waits;
+    stuck.push_back(e);
+  }
+  j["no_order_inserts"] = stuck;
+  json skipped = json::array();
+  for (const PartId p : plan.skipped) skipped.push_back(a.parts[p].name);
+  j["without_final_pose"] = skipped;
+  j["pair_sweeps"] = plan.sweeps;
+  j["checks"] = plan.evaluations;
+  j["seconds"] = seconds;
+  return j;
+}
+
+void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds) {
+  const std::size_t placed = plan.order.size() - 1;
+  const std::size_t parts = placed + plan.stuck.size();
+  std::printf("%s: %zu part%s on the base %s; %s\n", a.name.c_str(), parts, parts == 1 ? "" : "s", a.parts[*plan.base].name.c_str(),
+              plan.complete() ? "an order puts every one of them in place"
+                              : (std::to_string(plan.stuck.size()) + " can be put in place by no order").c_str());
+  std::printf("\n%-5s %-20s %-40s %s\n", "step", "part", "comes home", "after");
+  for (std::size_t i = 0; i < plan.order.size(); ++i) {
+    const PartId p = plan.order[i];
+    std::string home = "(the base)", after;
+    if (const auto* way = plan.wayOf(p)) home = travel(way->out) + ": " + way->from;
+    for (const auto& e : plan.precedence)
+      if (e.after == p)
+        after += (after.empty() ? "" : ", ") + a.parts[e.before].name + (e.reason == eval::Precedence::Reason::Partner ? " (partner)" : " (whose way it blocks)");
+    std::printf("%-5d %-20s %-40s %s\n", plan.step[i], a.parts[p].name.c_str(), home.c_str(), after.c_str());
+  }
+  if (!plan.complete()) {
+    std::printf("\nno order puts these in place:\n");
+    for (const auto& s : plan.stuck) {
+      std::printf("  %s:", a.parts[s.part].name.c_str());
+      if (!s.waitsFor.empty()) {
+        std::string names;
+        for (const PartId w : s.waitsFor) names += (names.empty() ? "" : ", ") + a.parts[w].name;
+        std::printf(" needs %s in place first, which no order puts there\n", names.c_str());
+        continue;
+      }
+      const auto* c = plan.checkOf(s.part);
+      for (std::size_t k = 0; k < c->directions.size(); ++k)
+        std::printf("%s %s (%s): %s", k ? ";" : "", travel(c->directions[k].out).c_str(), c->directions[k].from.c_str(),
+                    blockers(a, c->directions[k]).c_str());
+      std::printf("\n");
+    }
+  }
+  if (!plan.skipped.empty()) {
+    std::string names;
+    for (const PartId p : plan.skipped) names += (names.empty() ? "" : ", ") + a.parts[p].name;
+    std::printf("\nwithout a final pose, not in the sequence: %s\n", names.c_str());
+  }
+  std::printf("\nways home: every part's, swept through the assembly (%d pair sweeps, %d checks, %.2f s)\n", plan.sweeps,
+              plan.evaluations, seconds);
+  for (const auto& c : plan.checks) {
+    std::printf("  %s\n", a.parts[c.part].name.c_str());
+    for (const auto& d : c.directions)
+      std::printf("    %-10s %-36s %s\n", travel(d.out).c_str(), d.from.c_str(), blockers(a, d).c_str());
+  }
+}
+
+}  // namespace
+
+int evaluate(const EvaluateArgs& args) {
+  ImporterRegistry importers;
+  for (const auto& dir : ImporterRegistry::defaultPluginDirs())
+    for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());
+  const bool tty = isatty(STDERR_FILENO) != 0;
+  int shown = -1;
+  const ProgressFn progress = [tty, &shown](double fraction, const std::string& stage) {
+    const int percent = static_cast<int>(fraction * 100.0);
+    if (tty && percent != shown) {
+      shown = percent;
+      std::fprintf(stderr, "\rvaw-sim: %3d %% %-50.50s", percent, stage.c_str());
+    }
+    return true;
+  };
+  try {
+    const Assembly a = loadAny(resolveScenePath(args.file), importers, {}, progress);
+    const auto start = std::chrono::steady_clock::now();
+    const eval::SequencePlan plan = eval::planSequence(a, {}, progress);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (tty) std::fprintf(stderr, "\r%70s\r", "");
+    if (args.json) std::cout << toJson(a, plan, seconds).dump(2) << '\n';
+    else printText(a, plan, seconds);
+    return 0;
+  } catch (const InputError& e) {
+    if (tty) std::fprintf(stderr, "\n");
+    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace vaw::app

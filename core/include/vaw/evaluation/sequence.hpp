@@ -1,0 +1,82 @@
+#pragma once
+// Which order puts an assembly together, found from its geometry before anyone tries (docs/evaluation.md).
+// Every part's ways home, one per direction its constraints give (off a mated face, along an insert's axis
+// from either end), are swept through the assembly at its final poses with the collision module's time of
+// impact, pair by pair, so each way out lists every part in it, not only the first. Assembly by
+// disassembly then takes out, round by round, the parts that have a way out clear of the parts still in
+// and that no part still in is constrained to; the reverse is an order that puts the assembly together.
+// What stays in when nothing more can come out can be inserted by no order, each with what blocks it.
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vaw/assembly.hpp"
+#include "vaw/importer.hpp"
+
+namespace vaw::eval {
+
+struct Blocker {
+  PartId by = 0;
+  // m travelled out from home before the part meets it; 0 when the two interfere at their final poses.
+  double distance = 0.0;
+};
+
+// One way home: the part comes in along -out.
+struct Direction {
+  Eigen::Vector3d out = Eigen::Vector3d::UnitZ();  // world, unit
+  std::string from;  // what gives the direction: "insert stud-1 on base-plate", "... (other end)", "world +z"
+  bool alongAxis = false;           // an insert's axis (the sweep slides along coaxial surfaces)
+  std::vector<Blocker> blockers;    // every part in the way at the final poses, nearest first
+};
+
+struct PartCheck {
+  PartId part = 0;
+  // The constraints' home directions first (the way the recognition saw the part come in), then the other
+  // end of each insert's axis. A part without constraints is tried along the six world axes, +z first.
+  std::vector<Direction> directions;
+};
+
+struct Precedence {
+  enum class Reason { Partner, Blocks };
+  PartId before = 0, after = 0;
+  // Partner: `after` is constrained to `before` (the workbench places a part only on placed partners).
+  // Blocks: `after` stands in the way `before` comes home by.
+  Reason reason = Reason::Partner;
+};
+
+struct Stuck {
+  PartId part = 0;
+  // Per direction (PartCheck::directions' order), the parts still in the assembly in the way.
+  std::vector<std::vector<PartId>> blockers;
+  // Constrained to parts that are stuck themselves (it could come home, but its partner cannot).
+  std::vector<PartId> waitsFor;
+};
+
+struct SequencePlan {
+  std::optional<PartId> base;
+  std::vector<PartCheck> checks;        // every part with a final pose but the base, by PartId
+  std::vector<PartId> order;            // base first, then every part some order can insert
+  std::vector<int> way;                 // per order entry: the direction used (-1 for the base)
+  std::vector<int> step;                // per order entry: the disassembly round, reversed (parts of one step need no order among them)
+  std::vector<Precedence> precedence;   // what the order found must respect, one entry per pair and reason
+  std::vector<Stuck> stuck;             // no order inserts these
+  std::vector<PartId> skipped;          // parts without a final pose: not in the sequence
+  int sweeps = 0;                       // pair sweeps run
+  int evaluations = 0;                  // distance and blocked checks in them
+  [[nodiscard]] bool complete() const { return stuck.empty(); }
+  // The direction a part in the order came home by, or nullptr.
+  [[nodiscard]] const Direction* wayOf(PartId p) const;
+  [[nodiscard]] const PartCheck* checkOf(PartId p) const;
+};
+
+struct SequenceOptions {
+  double tolerance = 1e-5;  // m, where along its way a block is located
+  double maxStep = 1e-3;    // m: within this of another part, the blocked check every maxStep of motion
+};
+
+// Throws vaw::Error when the assembly has no base. `progress` (may be empty) is asked between parts;
+// returning false stops with LoadCancelled.
+SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& options = {}, const ProgressFn& progress = {});
+
+}  // namespace vaw::eval

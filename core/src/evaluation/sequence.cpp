@@ -1,0 +1,241 @@
+#include "vaw/evaluation/sequence.hpp"
+
+#include <algorithm>
+#include <set>
+
+#include "vaw/collision/collision_world.hpp"
+#include "vaw/collision/time_of_impact.hpp"
+
+namespace vaw::eval {
+
+namespace {
+
+using collision::ObjectId;
+
+// The interval a box covers along a unit direction.
+std::pair<double, double> along(const Eigen::AlignedBox3d& b, const Eigen::Vector3d& d) {
+  const double c = b.center().dot(d);
+  const double r = (0.5 * b.sizes()).dot(d.cwiseAbs());
+  return {c - r, c + r};
+}
+
+std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vector<Eigen::Isometry3d>& home) {
+  std::vector<Direction> dirs;
+  auto add = [&](Eigen::Vector3d out, std::string from, bool axis) {
+    out.normalize();
+    for (auto& d : dirs)
+      if (d.out.dot(out) > 1.0 - 1e-9) {
+        d.alongAxis = d.alongAxis || axis;
+        return;
+      }
+    dirs.push_back({out, std::move(from), axis, {}});
+  };
+  struct Insert {
+    Eigen::Vector3d out;
+    std::string from;
+  };
+  std::vector<Insert> otherEnds;
+  for (const Constraint& c : a.constraints) {
+    if (c.part != p) continue;
+    const PartId partner = c.partner ? *c.partner : *a.base;
+    const Eigen::Vector3d out = home[partner].linear() * c.homeDirection;
+    const std::string from = std::string(name(c.type)) + " on " + a.parts[partner].name;
+    add(out, from, c.type == Constraint::Type::Insert);
+    if (c.type == Constraint::Type::Insert) otherEnds.push_back({-out, from + " (other end)"});
+  }
+  for (const Insert& e : otherEnds) add(e.out, e.from, true);
+  if (dirs.empty()) {
+    const std::pair<Eigen::Vector3d, const char*> axes[] = {{Eigen::Vector3d::UnitZ(), "world +z"}, {-Eigen::Vector3d::UnitZ(), "world -z"},
+                                                            {Eigen::Vector3d::UnitX(), "world +x"}, {-Eigen::Vector3d::UnitX(), "world -x"},
+                                                            {Eigen::Vector3d::UnitY(), "world +y"}, {-Eigen::Vector3d::UnitY(), "world -y"}};
+    for (const auto& [v, label] : axes) add(v, label, false);
+  }
+  return dirs;
+}
+
+}  // namespace
+
+const PartCheck* SequencePlan::checkOf(PartId p) const {
+  for (const auto& c : checks)
+    if (c.part == p) return &c;
+  return nullptr;
+}
+
+const Direction* SequencePlan::wayOf(PartId p) const {
+  const auto it = std::find(order.begin(), order.end(), p);
+  if (it == order.end()) return nullptr;
+  const int k = way[static_cast<std::size_t>(it - order.begin())];
+  const PartCheck* c = checkOf(p);
+  return c && k >= 0 ? &c->directions[static_cast<std::size_t>(k)] : nullptr;
+}
+
+SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& options, const ProgressFn& progress) {
+  if (!assembly.base) fail(assembly.source.string(), "base", "an assembly with a base part (the sequence starts from it)", "none");
+  SequencePlan plan;
+  plan.base = assembly.base;
+  const PartId base = *assembly.base;
+  const std::size_t n = assembly.parts.size();
+
+  // The assembly put together: every part at its final pose (the base where it stands).
+  Assembly together = assembly;
+  std::vector<Eigen::Isometry3d> home(n);
+  std::vector<bool> inSequence(n, false);
+  for (PartId p = 0; p < n; ++p) {
+    const Part& part = assembly.parts[p];
+    home[p] = p == base || !part.finalPose ? part.pose : *part.finalPose;
+    together.parts[p].pose = home[p];
+    inSequence[p] = p == base || part.finalPose.has_value();
+    if (!inSequence[p]) plan.skipped.push_back(p);
+  }
+  const collision::CollisionWorld world(together);
+  Eigen::AlignedBox3d all;
+  for (PartId p = 0; p < n; ++p)
+    if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));
+
+  collision::ToiOptions toi;
+  toi.tolerance = options.tolerance;
+  toi.maxStep = options.maxStep;
+  for (PartId p = 0; p < n; ++p) {
+    if (p == base || !inSequence[p]) continue;
+    if (progress && !progress(static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
+      throw LoadCancelled();
+    PartCheck check;
+    check.part = p;
+    check.directions = directionsOf(assembly, p, home);
+    const ObjectId mover = ObjectId::part(p);
+    const Eigen::AlignedBox3d box = world.worldBounds(mover);
+    for (Direction& d : check.directions) {
+      // Out until the part's trailing side has passed the assembly's leading side.
+      const double length = along(all, d.out).second - along(box, d.out).first + 2.0 * options.tolerance;
+      Eigen::AlignedBox3d swept = box;
+      swept.extend(box.min() + length * d.out).extend(box.max() + length * d.out);
+      for (const ObjectId& o : world.near(swept, mover)) {
+        if (o.kind != ObjectId::Kind::Part || !inSequence[o.index]) continue;
+        // Only as far as this part can be met: until the trailing side passes its leading side.
+        const double reach = along(world.worldBounds(o), d.out).second - along(box, d.out).first + 2.0 * options.tolerance;
+        if (reach <= 0.0) continue;
+        const collision::MotionEvent ev =
+            collision::firstBlockBy(world, mover, o, collision::translation(home[p], d.out, std::min(reach, length)),
+                                    d.alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
+        ++plan.sweeps;
+        plan.evaluations += ev.evaluations;
+        if (ev.kind == collision::EventKind::Blocked) d.blockers.push_back({o.index, ev.initiallyBlocked ? 0.0 : ev.s});
+      }
+      std::sort(d.blockers.begin(), d.blockers.end(),
+                [](const Blocker& x, const Blocker& y) { return x.distance != y.distance ? x.distance < y.distance : x.by < y.by; });
+    }
+    plan.checks.push_back(std::move(check));
+  }
+
+  // Partners: every part a part is constrained to must be in place before it.
+  std::vector<std::set<PartId>> partners(n);
+  for (const Constraint& c : assembly.constraints)
+    if (c.partner && *c.partner != c.part && inSequence[c.part] && inSequence[*c.partner]) partners[c.part].insert(*c.partner);
+
+  // Assembly by disassembly, round by round.
+  std::vector<bool> in = inSequence;
+  auto freeWay = [&](const PartCheck& c) {
+    for (std::size_t k = 0; k < c.directions.size(); ++k) {
+      const auto& bs = c.directions[k].blockers;
+      if (std::none_of(bs.begin(), bs.end(), [&](const Blocker& b) { return in[b.by]; })) return static_cast<int>(k);
+    }
+    return -1;
+  };
+  auto heldByAnother = [&](PartId p) {
+    for (PartId r = 0; r < n; ++r)
+      if (r != p && in[r] && partners[r].count(p)) return true;
+    return false;
+  };
+  struct Out {
+    PartId part;
+    int way;
+    int round;
+  };
+  std::vector<Out> removed;
+  std::vector<bool> stuck(n, false);
+  for (int round = 0;; ++round) {
+    std::vector<Out> now;
+    for (const PartCheck& c : plan.checks) {
+      if (!in[c.part] || heldByAnother(c.part)) continue;
+      if (const int k = freeWay(c); k >= 0) now.push_back({c.part, k, round});
+    }
+    if (!now.empty()) {
+      for (const Out& o : now) in[o.part] = false;
+      removed.insert(removed.end(), now.begin(), now.end());
+      continue;
+    }
+    // Nothing comes out: the parts with no way clear of the others can be inserted by no order. Set aside,
+    // they no longer hold the rest in.
+    std::vector<PartId> blocked;
+    for (const PartCheck& c : plan.checks)
+      if (in[c.part] && freeWay(c) < 0) blocked.push_back(c.part);
+    if (blocked.empty()) {
+      // Every part left has a way out but is held by another left: a loop of constraints.
+      for (const PartCheck& c : plan.checks)
+        if (in[c.part]) {
+          Stuck s{c.part, {}, {}};
+          for (PartId r = 0; r < n; ++r)
+            if (r != c.part && in[r] && partners[r].count(c.part)) s.waitsFor.push_back(r);
+          plan.stuck.push_back(std::move(s));
+          stuck[c.part] = true;
+        }
+      break;
+    }
+    for (const PartId p : blocked) {
+      Stuck s{p, {}, {}};
+      for (const Direction& d : plan.checkOf(p)->directions) {
+        std::vector<PartId> by;
+        for (const Blocker& b : d.blockers)
+          if (in[b.by]) by.push_back(b.by);
+        s.blockers.push_back(std::move(by));
+      }
+      plan.stuck.push_back(std::move(s));
+      stuck[p] = true;
+    }
+    for (const PartId p : blocked) in[p] = false;
+    if (std::none_of(plan.checks.begin(), plan.checks.end(), [&](const PartCheck& c) { return in[c.part]; })) break;
+  }
+  // A part whose partner no order inserts cannot be placed either.
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (const Out& o : removed) {
+      if (stuck[o.part]) continue;
+      for (const PartId r : partners[o.part])
+        if (stuck[r]) {
+          plan.stuck.push_back({o.part, {}, {r}});
+          stuck[o.part] = changed = true;
+          break;
+        }
+    }
+  }
+
+  plan.order.push_back(base);
+  plan.way.push_back(-1);
+  plan.step.push_back(0);
+  const int rounds = removed.empty() ? 0 : removed.back().round + 1;
+  for (int r = rounds - 1; r >= 0; --r)
+    for (const Out& o : removed)
+      if (o.round == r && !stuck[o.part]) {
+        plan.order.push_back(o.part);
+        plan.way.push_back(o.way);
+        plan.step.push_back(rounds - r);
+      }
+
+  // What the order found rests on.
+  auto addPrecedence = [&](PartId before, PartId after, Precedence::Reason why) {
+    for (const auto& e : plan.precedence)
+      if (e.before == before && e.after == after && e.reason == why) return;
+    plan.precedence.push_back({before, after, why});
+  };
+  for (std::size_t i = 1; i < plan.order.size(); ++i) {
+    const PartId p = plan.order[i];
+    for (const PartId r : partners[p])
+      if (r != base) addPrecedence(r, p, Precedence::Reason::Partner);
+    for (const Blocker& b : plan.wayOf(p)->blockers)
+      if (b.by != base && !stuck[b.by]) addPrecedence(p, b.by, Precedence::Reason::Blocks);
+  }
+  if (progress && !progress(1.0, "done")) throw LoadCancelled();
+  return plan;
+}
+
+}  // namespace vaw::eval
