@@ -21,6 +21,7 @@ using vaw::Assembly;
 using vaw::PartId;
 using vaw::eval::Precedence;
 using vaw::eval::SequencePlan;
+using vaw::Constraint;
 
 Assembly load(const std::string& name, void (*write)(const fs::path&)) {
   const fs::path file = vaw::test::tempDir() / name;
@@ -137,4 +138,182 @@ TEST(Sequence, ACaptiveRingIsNamedWithItsBlocker) {
   EXPECT_NEAR(down.blockers.at(0).distance, 0.0, 2e-5);
   // The cap on the flange is unaffected.
   EXPECT_EQ(names(a, plan.order), "base cap");
+}
+
+// ---- after the assembler tried: a scripted session on the bolted bracket ----
+
+#include "assembler.hpp"
+#include "vaw/evaluation/dfa.hpp"
+#include "vaw/evaluation/session_stats.hpp"
+
+namespace {
+
+struct Scripted {
+  vaw::eval::SessionStats stats;
+  std::map<std::string, double> grabbedAfter;  // world time just before each part's first carry
+  std::map<std::string, double> releasedAt;    // world time after each part's last release step
+  std::map<std::string, int> carries;
+  double nut2Distance = 0.0;                   // how far the script moved nut-2's centre in its one carry
+  double rate = 0.0;
+};
+
+Scripted scriptSession(const Assembly& a) {
+  Scripted s;
+  vaw::test::Assembler as(a);
+  std::optional<vaw::eval::SessionObserver> observer;
+  as.afterStep = [&](const vaw::sim::World& w) {
+    if (!observer) observer.emplace(w);
+    observer->observe(w);
+  };
+  s.rate = as.world().settings().rate;
+  auto carry = [&](const std::string& part, const Eigen::Isometry3d& target) {
+    if (!s.grabbedAfter.count(part)) s.grabbedAfter[part] = as.world().time();
+    ++s.carries[part];
+    as.carry(part, target);
+    s.releasedAt[part] = as.world().time();
+    as.settle();
+  };
+  // The nut onto its stud before the stud is there: refused; then back to the table.
+  carry("nut-1", as.above("nut-1", 0.0));
+  Eigen::Isometry3d aside = a.parts[*a.findPart("nut-1")].pose;
+  aside.translation().z() += 0.001;
+  carry("nut-1", aside);
+  // The stud pushed through its hole's bottom (let go there, not recognised: a drop), then 5 mm above home.
+  carry("stud-1", as.above("stud-1", -5.0));
+  carry("stud-1", as.above("stud-1", 5.0));
+  carry("stud-2", as.above("stud-2", 5.0));
+  carry("bracket", as.above("bracket", 4.0));
+  const PartId nut2 = *a.findPart("nut-2");
+  const Eigen::Isometry3d target = as.above("nut-2", 6.0);
+  s.nut2Distance = (target * a.parts[nut2].mass.centerOfMass - as.world().part(nut2).pose * a.parts[nut2].mass.centerOfMass).norm();
+  carry("nut-2", target);
+  s.stats = observer->finish(as.world(), "scripted");
+  return s;
+}
+
+}  // namespace
+
+TEST(Session, AScriptedSessionsFiguresAreWhatTheScriptDid) {
+  const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
+  const Scripted s = scriptSession(a);
+  const auto& st = s.stats;
+  auto part = [&](const std::string& name) { return *st.find(id(a, name)); };
+
+  EXPECT_EQ(names(a, st.placedOrder), "stud-1 stud-2 bracket nut-2");
+  for (const auto& [name, n] : s.carries) {
+    const auto p = part(name);
+    EXPECT_EQ(p.grabs, n) << name << ": one grab per carry";
+    // Grabbed within the five steps the hand closes in; PLACED after the last release, while it settled.
+    ASSERT_TRUE(p.firstHandled_s) << name;
+    EXPECT_GT(*p.firstHandled_s, s.grabbedAfter.at(name)) << name;
+    EXPECT_LE(*p.firstHandled_s, s.grabbedAfter.at(name) + 5.0 / s.rate + 1e-9) << name;
+    if (name == "nut-1") {
+      EXPECT_FALSE(p.placed_s) << "nut-1 was never placed";
+      continue;
+    }
+    ASSERT_TRUE(p.placed_s) << name;
+    EXPECT_GE(*p.placed_s, s.releasedAt.at(name) - 1.0 / s.rate) << name;
+    EXPECT_LE(*p.placed_s, s.releasedAt.at(name) + 300.0 / s.rate) << name;
+    EXPECT_NEAR(*p.timeToPlace(), *p.placed_s - *p.firstHandled_s, 1e-12);
+    EXPECT_EQ(p.holders(), "right hand") << name;
+  }
+  // The refusal, with its reason; the nut's first release was near its mate, its second away from it.
+  const auto nut1 = part("nut-1");
+  ASSERT_FALSE(nut1.refusals.empty());
+  for (const auto& r : nut1.refusals) EXPECT_NE(r.find("its partner stud-1 is not placed yet"), std::string::npos) << r;
+  EXPECT_GE(nut1.drops, 1);
+  EXPECT_EQ(part("stud-1").drops, 1) << "let go through the hole's bottom, away from its home";
+  EXPECT_EQ(part("stud-2").drops, 0);
+  for (const char* name : {"stud-2", "bracket", "nut-2", "pin", "sleeve"}) EXPECT_TRUE(part(name).refusals.empty()) << name;
+  // The nut stopped on the bracket on its way down its stud.
+  const auto nut2 = part("nut-2");
+  ASSERT_FALSE(nut2.blocked.empty());
+  EXPECT_NE(nut2.blocked.back().find("bracket"), std::string::npos) << nut2.blocked.back();
+  // Carried: the hand took it in one move from where it lay to 6 mm above home.
+  EXPECT_NEAR(nut2.carried_m, s.nut2Distance, 1e-9);
+  EXPECT_EQ(part("pin").grabs, 0);
+  EXPECT_FALSE(part("pin").firstHandled_s);
+  // Totals are the parts' sums.
+  int grabs = 0, drops = 0, refusals = 0;
+  double carried = 0.0;
+  for (const auto& p : st.parts) {
+    grabs += p.grabs;
+    drops += p.drops;
+    refusals += static_cast<int>(p.refusals.size());
+    carried += p.carried_m;
+  }
+  EXPECT_EQ(st.grabs, grabs);
+  EXPECT_EQ(st.grabs, 7);
+  EXPECT_EQ(st.drops, drops);
+  EXPECT_EQ(st.refusals, refusals);
+  EXPECT_NEAR(st.carried_m, carried, 1e-12);
+}
+
+TEST(Session, SessionsSideBySideGiveMeansAndSpread) {
+  const vaw::eval::Spread s = vaw::eval::spread({1.0, 2.0, 3.0, 6.0});
+  EXPECT_EQ(s.n, 4);
+  EXPECT_DOUBLE_EQ(s.mean, 3.0);
+  EXPECT_NEAR(s.sd, std::sqrt((4.0 + 1.0 + 0.0 + 9.0) / 3.0), 1e-12);
+  EXPECT_EQ(s.min, 1.0);
+  EXPECT_EQ(s.max, 6.0);
+  // Two participants: the second one's nut-2 took twice as long.
+  vaw::eval::SessionStats p1, p2;
+  vaw::eval::PartSession nut;
+  nut.name = "nut-2";
+  nut.firstHandled_s = 1.0;
+  nut.placed_s = 3.0;
+  nut.grabs = 1;
+  p1.parts = {nut};
+  nut.placed_s = 5.0;
+  nut.grabs = 3;
+  nut.drops = 2;
+  p2.parts = {nut};
+  const auto c = vaw::eval::compare({p1, p2});
+  ASSERT_EQ(c.parts.size(), 1u);
+  EXPECT_EQ(c.parts[0].placedIn, 2);
+  EXPECT_DOUBLE_EQ(c.parts[0].timeToPlace.mean, 3.0);
+  EXPECT_NEAR(c.parts[0].timeToPlace.sd, std::sqrt(2.0), 1e-12);
+  EXPECT_DOUBLE_EQ(c.parts[0].grabs.mean, 2.0);
+  EXPECT_DOUBLE_EQ(c.parts[0].drops.max, 2.0);
+}
+
+TEST(Dfa, TheBracketsPartsGetTheChartsCodes) {
+  const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
+  const SequencePlan plan = vaw::eval::planSequence(a);
+  auto estimate = [&](const std::string& name) {
+    const PartId p = id(a, name);
+    const Constraint* how = nullptr;
+    for (const auto& c : a.constraints)
+      if (c.part == p && c.type == vaw::Constraint::Type::Insert && !how) how = &c;
+    const vaw::eval::DfaEstimate e = vaw::eval::estimateDfa(a, p, plan.wayOf(p)->out, how);
+    std::printf("[ info ] %s: %s\n", name.c_str(), e.why.c_str());
+    return e;
+  };
+  // The stud: round about its axis, either end first (alpha + beta = 180: row 0), 34 mm by 12 mm (column
+  // 0): 1.13 s; into its hole with no clearance: not easy to align and it resists (03): 3.5 s.
+  const auto stud = estimate("stud-1");
+  EXPECT_EQ(stud.alpha_deg, 0.0);
+  EXPECT_EQ(stud.beta_deg, 180.0);
+  EXPECT_NEAR(stud.size_m, 0.034, 1e-6);
+  EXPECT_NEAR(stud.thickness_m, 0.012, 1e-4);
+  EXPECT_EQ(stud.handlingCode, "00");
+  EXPECT_EQ(stud.insertionCode, "03");
+  EXPECT_DOUBLE_EQ(stud.total_s(), 1.13 + 3.5);
+  // The nut: the same symmetry, 20 mm across, 8 mm thick; onto its stud with no clearance.
+  const auto nut = estimate("nut-1");
+  EXPECT_EQ(nut.alpha_deg + nut.beta_deg, 180.0);
+  EXPECT_EQ(nut.handlingCode, "00");
+  EXPECT_EQ(nut.insertionCode, "03");
+  // The sleeve onto its pin with 0.2 mm of clearance: easy (00), 1.5 s.
+  const auto sleeve = estimate("sleeve");
+  EXPECT_EQ(sleeve.insertionCode, "00");
+  EXPECT_DOUBLE_EQ(sleeve.insertion_s, 1.5);
+  // The bracket, an L with its upright to one side: no symmetry either way (alpha + beta = 720: row 3),
+  // 70 mm long: 1.95 s; over the studs with 0.5 mm of clearance: easy, 1.5 s.
+  const auto bracket = estimate("bracket");
+  EXPECT_EQ(bracket.alpha_deg, 360.0);
+  EXPECT_EQ(bracket.beta_deg, 360.0);
+  EXPECT_EQ(bracket.handlingCode, "30");
+  EXPECT_DOUBLE_EQ(bracket.handling_s, 1.95);
+  EXPECT_EQ(bracket.insertionCode, "00");
 }

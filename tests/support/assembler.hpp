@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <functional>
 #include <string>
 
 #include "vaw/assembly.hpp"
@@ -15,6 +16,8 @@ class Assembler {
  public:
   explicit Assembler(const Assembly& a) : a_(a), w_(a, vaw::sim::settingsFor(a)) {}
   vaw::sim::World& world() { return w_; }
+  // Called after every step the assembler runs (a session observer).
+  std::function<void(const vaw::sim::World&)> afterStep;
   void carry(const std::string& part, const Eigen::Isometry3d& target) {
     const PartId id = *a_.findPart(part);
     const Eigen::Isometry3d from = w_.part(id).pose;
@@ -22,16 +25,16 @@ class Assembler {
     hand.translation() = from * a_.parts[id].mass.centerOfMass;
     vaw::sim::Input in;
     in.right = {hand, true, std::nullopt};
-    for (int i = 0; i < 5; ++i) w_.step(in);
+    for (int i = 0; i < 5; ++i) step(in);
     ASSERT_EQ(w_.part(id).state, interact::PartState::InHand) << part;
     in.right.pose = target * from.inverse() * hand;
-    for (int i = 0; i < 30; ++i) w_.step(in);
+    for (int i = 0; i < 30; ++i) step(in);
     in.right.grab = false;
-    w_.step(in);
+    step(in);
   }
   void settle(int steps = 300) {
     vaw::sim::Input in;
-    for (int i = 0; i < steps; ++i) w_.step(in);
+    for (int i = 0; i < steps; ++i) step(in);
   }
   interact::PartState state(const std::string& part) { return w_.part(*a_.findPart(part)).state; }
   std::string events(const std::string& part, bool causes = false) {
@@ -48,6 +51,10 @@ class Assembler {
   }
 
  private:
+  void step(const vaw::sim::Input& in) {
+    w_.step(in);
+    if (afterStep) afterStep(w_);
+  }
   const Assembly& a_;
   vaw::sim::World w_;
 };
