@@ -8,7 +8,10 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
+#include "vaw/evaluation/report.hpp"
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/evaluation/session_stats.hpp"
+#include "vaw/sim/scene.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
 
@@ -168,9 +171,51 @@ int evaluate(const EvaluateArgs& args) {
     const auto start = std::chrono::steady_clock::now();
     const eval::SequencePlan plan = eval::planSequence(a, {}, progress);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    // Each session replayed on this assembly (its recorded scene hash must match).
+    std::vector<eval::SessionStats> sessions;
+    if (!args.sessions.empty()) {
+      const auto scene = sim::Scene::build(a);
+      for (const auto& file : args.sessions) {
+        if (tty) std::fprintf(stderr, "\rvaw-sim: replaying %-50.50s", file.c_str());
+        const sim::Session session = sim::loadSession(file);
+        sim::checkScene(session, *scene);
+        sessions.push_back(eval::sessionStats(scene, session, std::filesystem::path(file).stem().stem().string()));
+      }
+    }
     if (tty) std::fprintf(stderr, "\r%70s\r", "");
-    if (args.json) std::cout << toJson(a, plan, seconds).dump(2) << '\n';
-    else printText(a, plan, seconds);
+    if (args.json) {
+      json j = toJson(a, plan, seconds);
+      if (!sessions.empty()) {
+        json rows = json::array();
+        for (const auto& r : eval::partRows(a, plan, sessions))
+          rows.push_back({{"part", r.name}, {"placed_in", r.placedIn}, {"time_to_place_mean_s", r.timeToPlace.mean},
+                          {"time_to_place_sd_s", r.timeToPlace.sd}, {"grabs_mean", r.grabs.mean}, {"drops_mean", r.drops.mean},
+                          {"refusals_mean", r.refusals.mean}, {"carried_mean_m", r.carried.mean}, {"estimate_s", r.estimate.total_s()}});
+        j["sessions"] = rows;
+      }
+      std::cout << j.dump(2) << '\n';
+    } else {
+      printText(a, plan, seconds);
+      if (!sessions.empty()) {
+        std::printf("\n%zu session%s: per part, mean (sd) over the sessions, and the design-for-assembly estimate\n", sessions.size(),
+                    sessions.size() == 1 ? "" : "s");
+        std::printf("  %-20s %8s %16s %7s %7s %9s %10s %10s\n", "part", "placed", "time to place s", "grabs", "drops", "refusals",
+                    "carried m", "estimate s");
+        for (const auto& r : eval::partRows(a, plan, sessions)) {
+          if (r.step == "base") continue;
+          char time[48] = "";
+          if (r.timeToPlace.n > 0) std::snprintf(time, sizeof time, "%.2f (%.2f)", r.timeToPlace.mean, r.timeToPlace.sd);
+          std::printf("  %-20s %5d/%-2d %16s %7.1f %7.1f %9.1f %10.3f %10.2f\n", r.name.c_str(), r.placedIn, r.sessions, time, r.grabs.mean,
+                      r.drops.mean, r.refusals.mean, r.carried.mean, r.estimate.total_s());
+        }
+      }
+    }
+    if (!args.report.empty()) {
+      std::fflush(stdout);  // the table before the note, when both go to one file
+      const eval::ReportFiles files = eval::writeReport(a, plan, sessions, args.report);
+      std::fprintf(stderr, "vaw-sim: wrote %s (and parts.csv, sequence.csv, sessions.csv, evaluation.json beside it)\n",
+                   files.html.string().c_str());
+    }
     return 0;
   } catch (const InputError& e) {
     if (tty) std::fprintf(stderr, "\n");

@@ -1,11 +1,14 @@
 #pragma once
 #include <string>
+#include <vector>
 
 namespace vaw::app {
 // `vaw-sim evaluate`: the options as parsed in vaw_sim.cpp; docs/evaluation.md has the output.
 struct EvaluateArgs {
   std::string file;
   bool json = false;
+  std::vector<std::string> sessions;  // recorded sessions of this assembly (participants)
+  std::string report;                 // folder for report.html and its CSV and JSON
 };
 int evaluate(const EvaluateArgs& args);
 }  // namespace vaw::app

@@ -255,6 +255,11 @@ int dispatch(int argc, char** argv) {
                   "through GNU parallel or a Slurm job array.");
   evCmd->add_option("FILE", ev.file, "Scene, STEP or mesh file, or a bundled scene by its name")->required();
   evCmd->add_flag("--json", ev.json, "Print JSON");
+  evCmd->add_option("--session", ev.sessions, "Recorded sessions of this assembly (vaw-sim run, the window's File > Save Session): "
+                                              "per part what each assembler did, side by side")
+      ->type_name("SESSION")->expected(1, -1);
+  evCmd->add_option("--report", ev.report, "Write DIR/report.html with parts.csv, sequence.csv, sessions.csv and evaluation.json")
+      ->type_name("DIR");
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 
   vaw::app::WorkPrecisionArgs wp;

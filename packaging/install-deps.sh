@@ -7,8 +7,8 @@ set -euo pipefail
 packages=(
   # toolchain
   build-essential cmake ninja-build pkg-config file
-  # core libraries
-  libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev libcli11-dev
+  # core libraries (zlib: the evaluation report's PNG pictures)
+  libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev libcli11-dev zlib1g-dev
   # STEP import (the Open CASCADE 7.6 plugin): XDE reader, modelling, meshing
   libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
   libocct-foundation-dev libocct-visualization-dev
@@ -29,6 +29,8 @@ packages=(
   # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe); EGL's headers for
   # the headset renderer's benchmark (no X server)
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl-dev
+  # the evaluation report is opened in a real browser by its test (headless)
+  chromium
   # packaging checks
   desktop-file-utils appstream
   # regenerating docs/states.svg from docs/states.dot

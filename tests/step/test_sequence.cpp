@@ -317,3 +317,106 @@ TEST(Dfa, TheBracketsPartsGetTheChartsCodes) {
   EXPECT_DOUBLE_EQ(bracket.handling_s, 1.95);
   EXPECT_EQ(bracket.insertionCode, "00");
 }
+
+// ---- the report, opened in a real browser ----
+
+#include <cstdio>
+#include <fstream>
+#include <regex>
+#include <sstream>
+
+#include "vaw/evaluation/report.hpp"
+
+namespace {
+
+std::string run(const std::string& command) {
+  std::string out;
+  FILE* p = popen(command.c_str(), "r");
+  if (!p) return out;
+  char buf[65536];
+  for (std::size_t n; (n = fread(buf, 1, sizeof buf, p)) > 0;) out.append(buf, n);
+  pclose(p);
+  return out;
+}
+
+std::vector<std::vector<std::string>> csvRows(const fs::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::ifstream in(file);
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> cells;
+    std::string cell;
+    bool quoted = false;
+    for (const char c : line) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) {
+        cells.push_back(cell);
+        cell.clear();
+      } else cell += c;
+    }
+    cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+}  // namespace
+
+TEST(Report, TheHtmlShowsTheCsvsNumbersInChromium) {
+  const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
+  const SequencePlan plan = vaw::eval::planSequence(a);
+  Scripted first = scriptSession(a), second = scriptSession(a);
+  first.stats.label = "P01";
+  second.stats.label = "P02";
+  // In the build tree, so that the screenshot stays to be looked at.
+  const fs::path dir = fs::absolute("report-bolted-bracket");
+  const auto files = vaw::eval::writeReport(a, plan, {first.stats, second.stats}, dir);
+  ASSERT_TRUE(fs::exists(files.html));
+
+  const std::string chromium = "/usr/bin/chromium";
+  ASSERT_TRUE(fs::exists(chromium)) << "Debian's chromium (packaging/install-deps.sh installs it) renders the report";
+  const std::string flags = " --headless --no-sandbox --disable-gpu --hide-scrollbars --virtual-time-budget=5000 ";
+  const std::string dom = run(chromium + flags + "--dump-dom 'file://" + files.html.string() + "' 2>/dev/null");
+  ASSERT_FALSE(dom.empty()) << "chromium printed no page";
+  // Every picture decoded in the browser: the assembly, and one per step of the order.
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(dom, m, std::regex("data-pictures-shown=\"(\\d+)\""))) << "the page's load handler did not run";
+  EXPECT_EQ(std::stoul(m[1]), plan.order.size() + 1);
+  (void)run(chromium + flags + "--window-size=1200,3000 --screenshot='" + (dir / "report.png").string() + "' 'file://" + files.html.string() +
+            "' 2>/dev/null");
+  EXPECT_GT(fs::file_size(dir / "report.png"), 20000u) << "a screenshot of the page, to look at";
+
+  // The parts table as the browser has it, cell by cell against parts.csv.
+  const auto table = dom.substr(dom.find("id=\"parts\""), dom.find("</table>", dom.find("id=\"parts\"")) - dom.find("id=\"parts\""));
+  std::vector<std::vector<std::string>> htmlRows;
+  const std::regex row("<tr[^>]*>(.*?)</tr>"), cell("<td[^>]*>(.*?)</td>");
+  for (auto r = std::sregex_iterator(table.begin(), table.end(), row); r != std::sregex_iterator(); ++r) {
+    const std::string body = (*r)[1];
+    std::vector<std::string> cells;
+    for (auto c = std::sregex_iterator(body.begin(), body.end(), cell); c != std::sregex_iterator(); ++c) cells.push_back((*c)[1]);
+    if (!cells.empty()) htmlRows.push_back(cells);
+  }
+  const auto csv = csvRows(files.partsCsv);
+  ASSERT_EQ(htmlRows.size() + 1, csv.size()) << "one row per part in both";
+  for (std::size_t i = 0; i < htmlRows.size(); ++i) {
+    const auto& h = htmlRows[i];
+    const auto& c = csv[i + 1];
+    EXPECT_EQ(h[0], c[0]);                          // part
+    EXPECT_EQ(h[1], c[1]);                          // step
+    EXPECT_EQ(h[4], c[4]) << c[0];                  // handling code
+    EXPECT_EQ(h[5], c[5]) << c[0];                  // insertion code
+    EXPECT_EQ(h[6].substr(0, c[8].size()), c[8]) << c[0];  // estimate s
+    EXPECT_EQ(h[8], c[12]) << c[0];                 // time to place, mean
+    EXPECT_EQ(h[9], c[13]) << c[0];                 // sd
+    EXPECT_EQ(h[10], c[14]) << c[0];                // grabs
+    EXPECT_EQ(h[11], c[15]) << c[0];                // drops
+    EXPECT_EQ(h[12], c[16]) << c[0];                // refusals
+    EXPECT_EQ(h[13], c[17]) << c[0];                // carried
+  }
+  // And the CSV holds what the sessions measured: nut-2's time to place, both participants alike.
+  for (const auto& c : csv)
+    if (c[0] == "nut-2") {
+      EXPECT_EQ(c[12], vaw::eval::formatNumber(*first.stats.find(id(a, "nut-2"))->timeToPlace()));
+      EXPECT_EQ(c[13], vaw::eval::formatNumber(0.0));
+      EXPECT_EQ(c[11], "2");
+    }
+}

@@ -84,6 +84,20 @@ SessionStats SessionObserver::finish(const sim::World& world, std::string label)
   }
   for (const auto& r : world.refusals())
     parts[r.part].refusals.push_back(std::string(interact::name(r.event)) + ": " + r.reason);
+  // Each part starts in the state its first transition leaves (or stays in the one it ends in).
+  for (PartId p = 0; p < parts.size(); ++p) {
+    double from = 0.0;
+    std::optional<PartState> state;
+    for (const auto& t : world.transitions()) {
+      if (t.part != p) continue;
+      if (!state) state = t.from;
+      if (t.t > from) out.spans.push_back({p, from, t.t, *state});
+      from = t.t;
+      state = t.to;
+    }
+    if (!state) state = world.part(p).state;
+    if (out.duration_s > from) out.spans.push_back({p, from, out.duration_s, *state});
+  }
   const auto base = world.assembly().base;
   for (auto& s : parts) {
     if (base && s.part == *base) continue;

@@ -31,9 +31,17 @@ struct PartSession {
   [[nodiscard]] std::string holders() const;  // "right hand", "left and right hands, hoist", "" ...
 };
 
+// A stretch of time a part spent in one state (the timeline).
+struct StateSpan {
+  PartId part = 0;
+  double from_s = 0.0, to_s = 0.0;
+  interact::PartState state = interact::PartState::Static;
+};
+
 struct SessionStats {
   std::string label;  // participant or file name
   double duration_s = 0.0;
+  std::vector<StateSpan> spans;      // every part's states over the session, by part then time
   std::vector<PartSession> parts;    // every part but the base, by PartId
   std::vector<PartId> placedOrder;   // by the time each became PLACED
   int grabs = 0, toolLifts = 0, drops = 0, refusals = 0, blocked = 0;

@@ -1,0 +1,45 @@
+#pragma once
+// The evaluation report (docs/evaluation.md, "The report"): one self-contained HTML page (pictures of the
+// assembly and of each step of the order, the tables, the chart of time per part, each session's timeline)
+// that opens in a browser with nothing else installed, and the same numbers as CSV and JSON. Every file is
+// written through vaw::AtomicFile and published together, so a failed write leaves the previous report.
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "vaw/evaluation/dfa.hpp"
+#include "vaw/evaluation/sequence.hpp"
+#include "vaw/evaluation/session_stats.hpp"
+
+namespace vaw::eval {
+
+// One part's line of the parts table, as the HTML, parts.csv and evaluation.json all give it.
+struct PartRow {
+  PartId part = 0;
+  std::string name;
+  std::string step;          // its step in the order, "no order" or "base"
+  std::string comesHome;     // "down: insert on stud-1"
+  std::string blockedBy;     // for parts no order inserts
+  DfaEstimate estimate;
+  // Over the sessions (empty when there are none): sessions it was placed in, time to place, attempts.
+  int sessions = 0, placedIn = 0;
+  Spread timeToPlace, grabs, drops, refusals, carried;
+  std::string hands;         // what held it, over all sessions
+};
+
+std::vector<PartRow> partRows(const Assembly& assembly, const SequencePlan& plan, const std::vector<SessionStats>& sessions);
+
+// "%.3f", or "" for a spread without values: how every number appears in the HTML and the CSV alike.
+std::string formatNumber(double v);
+
+struct ReportFiles {
+  std::filesystem::path html, partsCsv, sequenceCsv, sessionsCsv, json;
+};
+
+// Writes report.html, parts.csv, sequence.csv, sessions.csv and evaluation.json into `dir` (created when
+// missing). Throws vaw::OutputError naming the file when one cannot be written.
+ReportFiles writeReport(const Assembly& assembly, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
+                        const std::filesystem::path& dir);
+
+}  // namespace vaw::eval

@@ -1,0 +1,438 @@
+#include "vaw/evaluation/report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+
+#include "picture.hpp"
+#include "vaw/atomic_file.hpp"
+
+namespace vaw::eval {
+
+namespace {
+
+using nlohmann::json;
+
+std::string travel(const Eigen::Vector3d& out) {
+  const Eigen::Vector3d in = -out;
+  const char* axes[] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(std::abs(in[i]) - 1.0) < 1e-6) {
+      if (i == 2) return in[i] < 0 ? "down" : "up";
+      return std::string(in[i] < 0 ? "along -" : "along +") + axes[i];
+    }
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "along (%.3f %.3f %.3f)", in.x(), in.y(), in.z());
+  return buf;
+}
+
+std::string html(const std::string& s) {
+  std::string o;
+  for (const char c : s) {
+    if (c == '<') o += "&lt;";
+    else if (c == '>') o += "&gt;";
+    else if (c == '&') o += "&amp;";
+    else if (c == '"') o += "&quot;";
+    else o += c;
+  }
+  return o;
+}
+
+std::string csv(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string o = "\"";
+  for (const char c : s) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
+const Constraint* constraintFor(const Assembly& a, PartId p, const Direction* way) {
+  const Constraint* first = nullptr;
+  for (const auto& c : a.constraints) {
+    if (c.part != p) continue;
+    if (!first) first = &c;
+    const PartId partner = c.partner ? *c.partner : *a.base;
+    if (way && way->from.rfind(std::string(name(c.type)) + " on " + a.parts[partner].name, 0) == 0) return &c;
+  }
+  return first;
+}
+
+Eigen::Vector3f colorOf(const Assembly& a, PartId p) {
+  if (a.parts[p].color) return *a.parts[p].color;
+  static const Eigen::Vector3f palette[] = {{0.27f, 0.51f, 0.71f}, {0.85f, 0.55f, 0.2f}, {0.4f, 0.65f, 0.35f},
+                                            {0.75f, 0.35f, 0.35f}, {0.55f, 0.45f, 0.7f}, {0.6f, 0.5f, 0.35f}};
+  return palette[p % 6];
+}
+
+Eigen::Isometry3d homeOf(const Assembly& a, PartId p) {
+  return a.base && p == *a.base ? a.parts[p].pose : a.parts[p].finalPose.value_or(a.parts[p].pose);
+}
+
+// The assembly, or its state at one step of the order: the parts before it grey, the step's part in its
+// colour with the way it comes home, the parts after it left out.
+std::string picture(const Assembly& a, const SequencePlan& plan, std::optional<std::size_t> step, int w, int h) {
+  Eigen::AlignedBox3d box;
+  for (const PartId p : plan.order)
+    for (const auto& v : a.parts[p].mesh->vertices) box.extend(homeOf(a, p) * v);
+  for (const auto& s : plan.stuck)
+    for (const auto& v : a.parts[s.part].mesh->vertices) box.extend(homeOf(a, s.part) * v);
+  detail::Picture pic(w, h, box);
+  const std::size_t upto = step ? *step : plan.order.size() - 1;
+  for (std::size_t i = 0; i <= upto && i < plan.order.size(); ++i) {
+    const PartId p = plan.order[i];
+    const bool current = step && i == *step;
+    pic.draw({a.parts[p].mesh.get(), homeOf(a, p), !step || current ? colorOf(a, p) : Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
+  }
+  if (!step)
+    for (const auto& s : plan.stuck) pic.draw({a.parts[s.part].mesh.get(), homeOf(a, s.part), Eigen::Vector3f(0.85f, 0.15f, 0.15f)});
+  if (step && *step > 0)
+    if (const Direction* way = plan.wayOf(plan.order[*step])) {
+      const PartId p = plan.order[*step];
+      const Eigen::Vector3d centre = homeOf(a, p) * a.parts[p].mass.centerOfMass;
+      pic.arrow(centre + 0.25 * way->out * box.diagonal().norm() * 0.3, -way->out, 0.25 * box.diagonal().norm(),
+                Eigen::Vector3f(0.85f, 0.1f, 0.1f));
+    }
+  return pic.dataUri();
+}
+
+std::string barChart(const std::vector<PartRow>& rows, bool withSessions) {
+  double top = 0.0;
+  for (const auto& r : rows) {
+    top = std::max(top, r.estimate.total_s());
+    if (r.timeToPlace.n > 0) top = std::max(top, r.timeToPlace.mean + r.timeToPlace.sd);
+  }
+  top = std::max(top, 1.0);
+  const int rowH = 26, left = 150, width = 520;
+  const int height = static_cast<int>(rows.size()) * rowH + 50;
+  std::string s = "<svg xmlns='http://www.w3.org/2000/svg' width='" + std::to_string(left + width + 60) + "' height='" +
+                  std::to_string(height) + "' role='img' aria-label='time per part'>";
+  char buf[512];
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const auto& r = rows[i];
+    const int y = static_cast<int>(i) * rowH + 10;
+    std::snprintf(buf, sizeof buf, "<text x='%d' y='%d' text-anchor='end' font-size='12'>%s</text>", left - 8, y + 15, html(r.name).c_str());
+    s += buf;
+    const double est = r.estimate.total_s() / top * width;
+    std::snprintf(buf, sizeof buf, "<rect x='%d' y='%d' width='%.1f' height='9' fill='#e08a2c'><title>estimate %s s</title></rect>", left,
+                  y + (withSessions ? 12 : 5), est, formatNumber(r.estimate.total_s()).c_str());
+    s += buf;
+    if (withSessions && r.timeToPlace.n > 0) {
+      const double m = r.timeToPlace.mean / top * width, sd = r.timeToPlace.sd / top * width;
+      std::snprintf(buf, sizeof buf,
+                    "<rect x='%d' y='%d' width='%.1f' height='10' fill='#3a76b4'><title>measured %s s</title></rect>"
+                    "<line x1='%.1f' x2='%.1f' y1='%d' y2='%d' stroke='#123' stroke-width='1.5'/>",
+                    left, y + 1, m, formatNumber(r.timeToPlace.mean).c_str(), left + m - sd, left + m + sd, y + 6, y + 6);
+      s += buf;
+    }
+  }
+  const int axisY = static_cast<int>(rows.size()) * rowH + 14;
+  for (int k = 0; k <= 4; ++k) {
+    const double v = top * k / 4.0;
+    std::snprintf(buf, sizeof buf,
+                  "<line x1='%.1f' x2='%.1f' y1='6' y2='%d' stroke='#ccc'/><text x='%.1f' y='%d' font-size='11' text-anchor='middle'>%.1f s</text>",
+                  left + width * k / 4.0, left + width * k / 4.0, axisY, left + width * k / 4.0, axisY + 14, v);
+    s += buf;
+  }
+  return s + "</svg>";
+}
+
+const char* stateColor(interact::PartState s) {
+  switch (s) {
+    case interact::PartState::InHand: return "#3a76b4";
+    case interact::PartState::OnTool: return "#7b5ea7";
+    case interact::PartState::OnBaseSlide: return "#e08a2c";
+    case interact::PartState::OnBaseStatic: return "#f2c14e";
+    case interact::PartState::InSpace: return "#d9534f";
+    case interact::PartState::Static: return "#c8c8c8";
+    case interact::PartState::Placed: return "#4f9d4f";
+  }
+  return "#000";
+}
+
+std::string timeline(const Assembly& a, const SessionStats& s) {
+  std::vector<PartId> parts;
+  for (const auto& p : s.parts) parts.push_back(p.part);
+  const int rowH = 18, left = 150, width = 620;
+  const int height = static_cast<int>(parts.size()) * rowH + 60;
+  const double T = std::max(s.duration_s, 1e-6);
+  std::string out = "<svg xmlns='http://www.w3.org/2000/svg' width='" + std::to_string(left + width + 20) + "' height='" +
+                    std::to_string(height) + "' role='img' aria-label='timeline'>";
+  char buf[512];
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const int y = static_cast<int>(i) * rowH + 6;
+    std::snprintf(buf, sizeof buf, "<text x='%d' y='%d' text-anchor='end' font-size='11'>%s</text>", left - 6, y + 12,
+                  html(a.parts[parts[i]].name).c_str());
+    out += buf;
+    for (const auto& sp : s.spans) {
+      if (sp.part != parts[i]) continue;
+      std::snprintf(buf, sizeof buf, "<rect x='%.2f' y='%d' width='%.2f' height='%d' fill='%s'><title>%s %.2f-%.2f s</title></rect>",
+                    left + sp.from_s / T * width, y, std::max(0.5, (sp.to_s - sp.from_s) / T * width), rowH - 4, stateColor(sp.state),
+                    std::string(interact::name(sp.state)).c_str(), sp.from_s, sp.to_s);
+      out += buf;
+    }
+  }
+  const int axisY = static_cast<int>(parts.size()) * rowH + 10;
+  for (int k = 0; k <= 5; ++k) {
+    std::snprintf(buf, sizeof buf, "<text x='%.1f' y='%d' font-size='11' text-anchor='middle'>%.1f s</text>", left + width * k / 5.0,
+                  axisY + 12, T * k / 5.0);
+    out += buf;
+  }
+  int x = 20;
+  for (const auto st : interact::kAllStates) {
+    std::snprintf(buf, sizeof buf, "<rect x='%d' y='%d' width='10' height='10' fill='%s'/><text x='%d' y='%d' font-size='10'>%s</text>", x,
+                  axisY + 22, stateColor(st), x + 13, axisY + 31, std::string(interact::name(st)).c_str());
+    out += buf;
+    x += 104;
+  }
+  return out + "</svg>";
+}
+
+}  // namespace
+
+std::string formatNumber(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3f", v);
+  return buf;
+}
+
+std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions) {
+  std::vector<PartRow> rows;
+  const Comparison cmp = compare(sessions);
+  std::vector<PartId> ids = plan.order;
+  for (const auto& s : plan.stuck) ids.push_back(s.part);
+  for (const PartId p : ids) {
+    PartRow r;
+    r.part = p;
+    r.name = a.parts[p].name;
+    const auto at = std::find(plan.order.begin(), plan.order.end(), p);
+    const Direction* way = plan.wayOf(p);
+    if (a.base && p == *a.base) {
+      r.step = "base";
+    } else if (at != plan.order.end()) {
+      r.step = std::to_string(plan.step[static_cast<std::size_t>(at - plan.order.begin())]);
+      r.comesHome = travel(way->out) + ": " + way->from;
+    } else {
+      r.step = "no order";
+      for (const auto& s : plan.stuck)
+        if (s.part == p) {
+          std::set<std::string> names;
+          for (const auto& by : s.blockers)
+            for (const PartId b : by) names.insert(a.parts[b].name);
+          for (const PartId w : s.waitsFor) names.insert(a.parts[w].name + " (partner)");
+          for (const auto& n : names) r.blockedBy += (r.blockedBy.empty() ? "" : " ") + n;
+        }
+    }
+    if (!(a.base && p == *a.base)) {
+      const PartCheck* c = plan.checkOf(p);
+      const Eigen::Vector3d out = way ? way->out : (c && !c->directions.empty() ? c->directions.front().out : Eigen::Vector3d::UnitZ());
+      r.estimate = estimateDfa(a, p, out, constraintFor(a, p, way));
+    }
+    r.sessions = static_cast<int>(sessions.size());
+    for (const auto& pa : cmp.parts)
+      if (pa.name == r.name) {
+        r.placedIn = pa.placedIn;
+        r.timeToPlace = pa.timeToPlace;
+        r.grabs = pa.grabs;
+        r.drops = pa.drops;
+        r.refusals = pa.refusals;
+        r.carried = pa.carried;
+      }
+    bool left = false, right = false, both = false, hoist = false;
+    for (const auto& s : sessions)
+      if (const PartSession* ps = s.find(p)) {
+        left = left || ps->left;
+        right = right || ps->right;
+        both = both || ps->both;
+        hoist = hoist || ps->hoist;
+      }
+    PartSession all;
+    all.left = left;
+    all.right = right;
+    all.both = both;
+    all.hoist = hoist;
+    r.hands = all.holders();
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
+
+ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
+                        const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw OutputError(dir.string() + ": cannot create the report folder: " + ec.message());
+  const std::vector<PartRow> rows = partRows(a, plan, sessions);
+  const bool withSessions = !sessions.empty();
+  auto spreadCell = [](const Spread& s) { return s.n > 0 ? formatNumber(s.mean) : std::string(); };
+  auto sdCell = [](const Spread& s) { return s.n > 1 ? formatNumber(s.sd) : std::string(); };
+
+  // parts.csv: the parts table.
+  std::string partsCsv =
+      "part,step,comes_home,blocked_by,handling_code,insertion_code,handling_s,insertion_s,estimate_s,estimate_is_lower_bound,sessions,"
+      "placed_in,time_to_place_mean_s,time_to_place_sd_s,grabs_mean,drops_mean,refusals_mean,carried_mean_m,held_by\n";
+  for (const auto& r : rows) {
+    const bool base = r.step == "base";
+    partsCsv += csv(r.name) + "," + r.step + "," + csv(r.comesHome) + "," + csv(r.blockedBy) + "," + (base ? "" : r.estimate.handlingCode) + "," +
+                (base ? "" : r.estimate.insertionCode) + "," + (base ? "" : formatNumber(r.estimate.handling_s)) + "," +
+                (base ? "" : formatNumber(r.estimate.insertion_s)) + "," + (base ? "" : formatNumber(r.estimate.total_s())) + "," +
+                (base ? "" : r.estimate.lowerBound ? "yes" : "no") + "," + std::to_string(r.sessions) + "," + std::to_string(r.placedIn) + "," +
+                spreadCell(r.timeToPlace) + "," + sdCell(r.timeToPlace) + "," + spreadCell(r.grabs) + "," + spreadCell(r.drops) + "," +
+                spreadCell(r.refusals) + "," + spreadCell(r.carried) + "," + csv(r.hands) + "\n";
+  }
+  // sequence.csv: the order with what each step rests on.
+  std::string sequenceCsv = "position,step,part,comes_home,after\n";
+  for (std::size_t i = 0; i < plan.order.size(); ++i) {
+    const PartId p = plan.order[i];
+    std::string after;
+    for (const auto& e : plan.precedence)
+      if (e.after == p)
+        after += (after.empty() ? "" : " ") + a.parts[e.before].name + (e.reason == Precedence::Reason::Partner ? "(partner)" : "(blocks)");
+    const Direction* way = plan.wayOf(p);
+    sequenceCsv += std::to_string(i) + "," + std::to_string(plan.step[i]) + "," + csv(a.parts[p].name) + "," +
+                   csv(way ? travel(way->out) + ": " + way->from : std::string()) + "," + csv(after) + "\n";
+  }
+  // sessions.csv: every part in every session.
+  std::string sessionsCsv = "session,part,first_handled_s,placed_s,time_to_place_s,grabs,tool_lifts,drops,refusals,blocked,carried_m,held_by\n";
+  for (const auto& s : sessions)
+    for (const auto& p : s.parts)
+      sessionsCsv += csv(s.label) + "," + csv(p.name) + "," + (p.firstHandled_s ? formatNumber(*p.firstHandled_s) : "") + "," +
+                     (p.placed_s ? formatNumber(*p.placed_s) : "") + "," + (p.timeToPlace() ? formatNumber(*p.timeToPlace()) : "") + "," +
+                     std::to_string(p.grabs) + "," + std::to_string(p.toolLifts) + "," + std::to_string(p.drops) + "," +
+                     std::to_string(p.refusals.size()) + "," + std::to_string(p.blocked.size()) + "," + formatNumber(p.carried_m) + "," +
+                     csv(p.holders()) + "\n";
+
+  // evaluation.json: everything, as numbers.
+  json j;
+  j["assembly"] = a.name;
+  j["complete"] = plan.complete();
+  json jr = json::array();
+  for (const auto& r : rows) {
+    json e{{"part", r.name}, {"step", r.step}, {"comes_home", r.comesHome}, {"blocked_by", r.blockedBy}};
+    if (r.step != "base")
+      e["estimate"] = {{"handling_code", r.estimate.handlingCode}, {"insertion_code", r.estimate.insertionCode},
+                       {"handling_s", r.estimate.handling_s}, {"insertion_s", r.estimate.insertion_s},
+                       {"alpha_deg", r.estimate.alpha_deg}, {"beta_deg", r.estimate.beta_deg}, {"size_m", r.estimate.size_m},
+                       {"thickness_m", r.estimate.thickness_m}, {"lower_bound", r.estimate.lowerBound}, {"why", r.estimate.why}};
+    if (withSessions)
+      e["sessions"] = {{"placed_in", r.placedIn}, {"time_to_place_mean_s", r.timeToPlace.mean}, {"time_to_place_sd_s", r.timeToPlace.sd},
+                       {"grabs_mean", r.grabs.mean}, {"drops_mean", r.drops.mean}, {"refusals_mean", r.refusals.mean},
+                       {"carried_mean_m", r.carried.mean}, {"held_by", r.hands}};
+    jr.push_back(e);
+  }
+  j["parts"] = jr;
+  json js = json::array();
+  for (const auto& s : sessions) {
+    json parts = json::array();
+    for (const auto& p : s.parts) {
+      json e{{"part", p.name}, {"grabs", p.grabs}, {"tool_lifts", p.toolLifts}, {"drops", p.drops}, {"refusals", p.refusals},
+             {"blocked", p.blocked}, {"carried_m", p.carried_m}, {"held_by", p.holders()}};
+      e["first_handled_s"] = p.firstHandled_s ? json(*p.firstHandled_s) : json(nullptr);
+      e["placed_s"] = p.placed_s ? json(*p.placed_s) : json(nullptr);
+      parts.push_back(e);
+    }
+    json order = json::array();
+    for (const PartId p : s.placedOrder) order.push_back(a.parts[p].name);
+    js.push_back({{"session", s.label}, {"duration_s", s.duration_s}, {"placed_order", order}, {"grabs", s.grabs}, {"drops", s.drops},
+                  {"refusals", s.refusals}, {"blocked", s.blocked}, {"carried_m", s.carried_m}, {"parts", parts}});
+  }
+  j["sessions"] = js;
+
+  // report.html.
+  std::string h = "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>" + html(a.name) +
+                  ": assembly evaluation</title><style>"
+                  "body{font-family:sans-serif;margin:24px;color:#222;max-width:1100px}"
+                  "table{border-collapse:collapse;margin:8px 0 20px}td,th{border:1px solid #ccc;padding:3px 7px;font-size:13px}"
+                  "th{background:#eef2f6;text-align:left}td.n{text-align:right}.stuck{color:#b22}"
+                  ".steps{display:flex;flex-wrap:wrap;gap:10px}.steps figure{margin:0;width:320px}figcaption{font-size:12px}"
+                  "</style></head><body>\n";
+  h += "<h1>" + html(a.name) + "</h1>\n<p>" +
+       (plan.complete() ? "An order puts every part in place."
+                        : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
+       " " + std::to_string(plan.order.size()) + " parts in the order, base " + html(a.parts[*plan.base].name) + ".</p>\n";
+  h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, std::nullopt, 640, 440) + "'>\n";
+  h += "<h2>Order</h2>\n<div class='steps'>\n";
+  const std::size_t pictured = std::min<std::size_t>(plan.order.size(), 40);
+  for (std::size_t i = 0; i < pictured; ++i) {
+    const PartId p = plan.order[i];
+    const Direction* way = plan.wayOf(p);
+    h += "<figure><img alt='step " + std::to_string(plan.step[i]) + "' width='320' height='220' src='" + picture(a, plan, i, 320, 220) +
+         "'><figcaption>" + std::to_string(i) + ". step " + std::to_string(plan.step[i]) + ": <b>" + html(a.parts[p].name) + "</b> " +
+         (way ? html(travel(way->out) + " (" + way->from + ")") : std::string("(the base)")) + "</figcaption></figure>\n";
+  }
+  h += "</div>\n";
+  if (plan.order.size() > pictured) h += "<p>Steps after " + std::to_string(pictured) + " are in the table only.</p>\n";
+  if (!plan.complete()) {
+    h += "<h2 class='stuck'>No order puts these in place</h2>\n<table id='stuck'><tr><th>part</th><th>way home</th><th>blocked by</th></tr>\n";
+    for (const auto& s : plan.stuck) {
+      const PartCheck* c = plan.checkOf(s.part);
+      if (!s.waitsFor.empty() || !c) {
+        std::string names;
+        for (const PartId w : s.waitsFor) names += (names.empty() ? "" : ", ") + a.parts[w].name;
+        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>its partner first</td><td>" + html(names) + "</td></tr>\n";
+        continue;
+      }
+      for (std::size_t k = 0; k < c->directions.size(); ++k) {
+        std::string names;
+        for (const auto& b : c->directions[k].blockers)
+          names += (names.empty() ? "" : ", ") + a.parts[b.by].name + " after " + formatNumber(1e3 * b.distance) + " mm";
+        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>" + html(travel(c->directions[k].out) + " (" + c->directions[k].from + ")") +
+             "</td><td>" + html(names) + "</td></tr>\n";
+      }
+    }
+    h += "</table>\n";
+  }
+  h += "<h2>Parts</h2>\n<p>Estimate: Boothroyd-Dewhurst manual handling and insertion times (the codes' rows are in the docs);"
+       " a part slow in the sessions and slow by the estimate is slow by design.</p>\n"
+       "<table id='parts'><tr><th>part</th><th>step</th><th>comes home</th><th>blocked by</th><th>handling</th><th>insertion</th>"
+       "<th>estimate s</th>";
+  if (withSessions)
+    h += "<th>placed in</th><th>time to place s (mean)</th><th>sd</th><th>grabs</th><th>drops</th><th>refusals</th><th>carried m</th><th>held by</th>";
+  h += "</tr>\n";
+  for (const auto& r : rows) {
+    const bool base = r.step == "base";
+    h += "<tr" + std::string(r.step == "no order" ? " class='stuck'" : "") + "><td>" + html(r.name) + "</td><td>" + r.step + "</td><td>" +
+         html(r.comesHome) + "</td><td>" + html(r.blockedBy) + "</td><td>" + (base ? "" : r.estimate.handlingCode) + "</td><td>" +
+         (base ? "" : r.estimate.insertionCode) + "</td><td class='n' title='" + html(r.estimate.why) + "'>" +
+         (base ? "" : formatNumber(r.estimate.total_s()) + (r.estimate.lowerBound ? " &ge;" : "")) + "</td>";
+    if (withSessions)
+      h += "<td class='n'>" + (base ? std::string() : std::to_string(r.placedIn) + "/" + std::to_string(r.sessions)) + "</td><td class='n'>" + spreadCell(r.timeToPlace) +
+           "</td><td class='n'>" + sdCell(r.timeToPlace) + "</td><td class='n'>" + spreadCell(r.grabs) + "</td><td class='n'>" +
+           spreadCell(r.drops) + "</td><td class='n'>" + spreadCell(r.refusals) + "</td><td class='n'>" + spreadCell(r.carried) + "</td><td>" +
+           html(r.hands) + "</td>";
+    h += "</tr>\n";
+  }
+  h += "</table>\n<h2>Time per part</h2>\n<p>Orange: the estimate" +
+       std::string(withSessions ? "; blue: the mean time from first grab to PLACED over the sessions, with one standard deviation." : ".") +
+       "</p>\n" + barChart(std::vector<PartRow>(rows.begin() + (plan.order.empty() ? 0 : 1), rows.end()), withSessions) + "\n";
+  for (const auto& s : sessions) {
+    h += "<h2>Session " + html(s.label) + "</h2>\n<p>" + formatNumber(s.duration_s) + " s; " + std::to_string(s.placedOrder.size()) +
+         " parts placed; " + std::to_string(s.grabs) + " grabs, " + std::to_string(s.drops) + " drops, " + std::to_string(s.refusals) +
+         " refusals, " + std::to_string(s.blocked) + " blocked, " + formatNumber(s.carried_m) + " m carried. Placed in the order:";
+    for (const PartId p : s.placedOrder) h += " " + html(a.parts[p].name);
+    h += ".</p>\n" + timeline(a, s) + "\n";
+    std::string refusals;
+    for (const auto& p : s.parts)
+      for (const auto& r : p.refusals) refusals += "<li>" + html(p.name + ": " + r) + "</li>";
+    if (!refusals.empty()) h += "<p>Refusals:</p><ul>" + refusals + "</ul>\n";
+  }
+  // Marks the page once every picture has decoded, for whoever checks the page in a browser (its test).
+  h += "<script>addEventListener('load',()=>{document.body.dataset.picturesShown="
+       "Array.from(document.images).filter(i=>i.complete&&i.naturalWidth>0).length;});</script>\n";
+  h += "<p style='font-size:11px;color:#777'>Written by vaw-sim evaluate; the same numbers are in parts.csv, sequence.csv, sessions.csv and "
+       "evaluation.json beside this page.</p></body></html>\n";
+
+  ReportFiles files{dir / "report.html", dir / "parts.csv", dir / "sequence.csv", dir / "sessions.csv", dir / "evaluation.json"};
+  AtomicFile fh(files.html), fp(files.partsCsv), fs(files.sequenceCsv), fss(files.sessionsCsv), fj(files.json);
+  fh << h;
+  fp << partsCsv;
+  fs << sequenceCsv;
+  fss << sessionsCsv;
+  fj << j.dump(2) << "\n";
+  for (AtomicFile* f : {&fh, &fp, &fs, &fss, &fj}) f->finish();
+  for (AtomicFile* f : {&fh, &fp, &fs, &fss, &fj}) f->publish();
+  return files;
+}
+
+}  // namespace vaw::eval
