@@ -181,3 +181,86 @@ TEST(TimeOfImpact, HingeRotationStopsAtAStop) {
   EXPECT_LE(std::abs(err), 3 * kTol);
   EXPECT_LE(std::abs(err), 1e-4);
 }
+
+// ---- one pair's way (assembly evaluation) ----
+
+TEST(FirstBlockBy, ACubeMovingAtAWallStopsAtItsFaceAfterFewChecks) {
+  // A 10 mm cube 50 mm from a 10 mm wall (face to face), moved 100 mm toward it.
+  ctest::SceneBuilder b;
+  const PartId cube = b.part("cube", primitives::box({0.01, 0.01, 0.01}), at(0, 0, 0.5));
+  const PartId wall = b.part("wall", primitives::box({0.01, 0.1, 0.1}), at(0.06, 0, 0.5));
+  b.base(wall);
+  const CollisionWorld w(b.a);
+  const MotionEvent ev = firstBlockBy(w, ObjectId::part(cube), ObjectId::part(wall),
+                                      translation(at(0, 0, 0.5), Eigen::Vector3d::UnitX(), 0.1), FilterMode::NoCare);
+  ASSERT_EQ(ev.kind, EventKind::Blocked);
+  EXPECT_FALSE(ev.initiallyBlocked);
+  // Faces within the distance tolerance only touch, so the last free pose is up to that far past contact.
+  EXPECT_NEAR(ev.s, 0.05, 1e-5 + ToiOptions{}.tolerance);
+  EXPECT_LE((ev.sEvent - ev.s), ToiOptions{}.tolerance);
+  EXPECT_LT(ev.evaluations, 40) << "conservative advancement across the gap, a few samples at the face";
+  // Moved away from it, nothing.
+  const MotionEvent away = firstBlockBy(w, ObjectId::part(cube), ObjectId::part(wall),
+                                        translation(at(0, 0, 0.5), -Eigen::Vector3d::UnitX(), 0.1), FilterMode::NoCare);
+  EXPECT_EQ(away.kind, EventKind::None);
+}
+
+TEST(FirstBlockBy, APegSlidesOutOfItsBoreButNotThroughItsBottom) {
+  // A peg (r 5 mm) in a tube's bore (r 5 mm, no clearance), the tube standing on a plate.
+  ctest::SceneBuilder b;
+  const PartId plate = b.part("plate", primitives::box({0.08, 0.08, 0.01}), at(0, 0, -0.005));
+  const PartId tube = b.part("tube", primitives::tube(0.01, 0.005, 0.02, 48), at(0, 0, 0.01));
+  const PartId peg = b.part("peg", primitives::cylinder(0.005, 0.03, 48), at(0, 0, 0.015));
+  b.base(plate);
+  const CollisionWorld w(b.a);
+  // Up along the axis: the coaxial pair is skipped, the peg leaves the bore.
+  const Motion up = translation(at(0, 0, 0.015), Eigen::Vector3d::UnitZ(), 0.05);
+  EXPECT_EQ(firstBlockBy(w, ObjectId::part(peg), ObjectId::part(tube), up, FilterMode::SkipCoaxial).kind, EventKind::None);
+  // Down: its end rests on the plate, which blocks it at once.
+  const Motion down = translation(at(0, 0, 0.015), -Eigen::Vector3d::UnitZ(), 0.05);
+  const MotionEvent onPlate = firstBlockBy(w, ObjectId::part(peg), ObjectId::part(plate), down, FilterMode::SkipCoaxial);
+  ASSERT_EQ(onPlate.kind, EventKind::Blocked);
+  EXPECT_LT(onPlate.sEvent, 2e-5);
+  // Sideways, the bore's wall blocks it at once.
+  const Motion side = translation(at(0, 0, 0.015), Eigen::Vector3d::UnitX(), 0.05);
+  const MotionEvent wall = firstBlockBy(w, ObjectId::part(peg), ObjectId::part(tube), side, FilterMode::SkipCoaxial);
+  ASSERT_EQ(wall.kind, EventKind::Blocked);
+  EXPECT_LT(wall.sEvent, 1e-3);
+}
+
+// ---- the order an assembly goes together in, on shapes made in code ----
+
+#include "vaw/evaluation/sequence.hpp"
+
+TEST(PlanSequence, APegUnderABlockGoesInFirstAndAPartWithNoFreeWayIsNamed) {
+  ctest::SceneBuilder b;
+  const PartId plate = b.part("plate", primitives::box({0.1, 0.1, 0.01}), at(0, 0, -0.005));
+  const PartId peg = b.part("peg", primitives::cylinder(0.005, 0.02, 32), at(0, 0, 0.01));
+  // A block 3 mm over the peg's top, held up on its own legs: it stands in the peg's way up.
+  const PartId block = b.part("block", primitives::box({0.04, 0.04, 0.01}), at(0, 0, 0.028));
+  b.base(plate);
+  for (const PartId p : {peg, block}) b.a.parts[p].finalPose = b.a.parts[p].pose;
+  // The peg stands on the plate and the block comes down from above (home from +z, the default); neither
+  // has a partner but the base.
+  b.mate(peg, {0, 0, -0.01}, {0, 0, -1}, {0, 0, 0.005}, {0, 0, 1});
+  b.mate(block, {0, 0, -0.005}, {0, 0, -1}, {0, 0, 0.018}, {0, 0, 1});
+  const eval::SequencePlan plan = eval::planSequence(b.a);
+  ASSERT_TRUE(plan.complete());
+  ASSERT_EQ(plan.order, (std::vector<PartId>{plate, peg, block}));
+  ASSERT_EQ(plan.precedence.size(), 1u);
+  EXPECT_EQ(plan.precedence[0].before, peg);
+  EXPECT_EQ(plan.precedence[0].after, block);
+  EXPECT_EQ(plan.precedence[0].reason, eval::Precedence::Reason::Blocks);
+  EXPECT_NEAR(plan.checkOf(peg)->directions.front().blockers.at(0).distance, 0.003, 2e-5);
+
+  // The block's way flipped to come up from below the plate: the plate is always there, so nothing puts
+  // the block in, and the peg still goes in.
+  b.a.constraints[1].homeDirection = -Eigen::Vector3d::UnitZ();
+  const eval::SequencePlan stuck = eval::planSequence(b.a);
+  EXPECT_FALSE(stuck.complete());
+  ASSERT_EQ(stuck.stuck.size(), 1u);
+  EXPECT_EQ(stuck.stuck[0].part, block);
+  ASSERT_EQ(stuck.stuck[0].blockers.size(), 1u);
+  EXPECT_EQ(stuck.stuck[0].blockers[0], (std::vector<PartId>{peg, plate})) << "the peg first, 3 mm below; then the plate";
+  EXPECT_EQ(stuck.order, (std::vector<PartId>{plate, peg}));
+}

@@ -164,11 +164,19 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
       removed.insert(removed.end(), now.begin(), now.end());
       continue;
     }
-    // Nothing comes out: the parts with no way clear of the others can be inserted by no order. Set aside,
-    // they no longer hold the rest in.
+    // Nothing comes out. First the parts that something always there (the base, or a part already set
+    // aside) blocks in every way: no order inserts them. Set aside, they no longer hold the rest in. Only
+    // when there are none, the parts that block each other (interlocked) are set aside together.
+    auto permanent = [&](PartId b) { return b == base || stuck[b]; };
     std::vector<PartId> blocked;
     for (const PartCheck& c : plan.checks)
-      if (in[c.part] && freeWay(c) < 0) blocked.push_back(c.part);
+      if (in[c.part] && std::all_of(c.directions.begin(), c.directions.end(), [&](const Direction& d) {
+            return std::any_of(d.blockers.begin(), d.blockers.end(), [&](const Blocker& b) { return permanent(b.by); });
+          }))
+        blocked.push_back(c.part);
+    if (blocked.empty())
+      for (const PartCheck& c : plan.checks)
+        if (in[c.part] && freeWay(c) < 0) blocked.push_back(c.part);
     if (blocked.empty()) {
       // Every part left has a way out but is held by another left: a loop of constraints.
       for (const PartCheck& c : plan.checks)
