@@ -12,6 +12,7 @@
 #include "vaw/ui/load_feedback.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/trials_panel.hpp"
 #include "vaw/ui/tuning.hpp"
@@ -55,6 +56,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
   lastLive_.start();
 
   wireConstraints();
+  wireSequence();
   wireXr();
   wireViewport();
   wireControls();
@@ -110,6 +112,9 @@ void MainWindow::createDocks() {
   addDockWidget(Qt::BottomDockWidgetArea, constraintsDock_);
   tabifyDockWidget(motionDock_, constraintsDock_);
   constraintsDock_->attachBaseMenu(sceneDock_);
+  sequenceDock_ = new SequenceDock(controller_, this);
+  addDockWidget(Qt::BottomDockWidgetArea, sequenceDock_);
+  tabifyDockWidget(constraintsDock_, sequenceDock_);
   timelineDock_->raise();
   resizeDocks({sceneDock_, partDock_}, {220, 480}, Qt::Vertical);
   resizeDocks({sceneDock_, controlsDock_}, {380, 330}, Qt::Horizontal);

@@ -9,12 +9,14 @@
 #include <QSaveFile>
 #include <QStatusBar>
 #include <algorithm>
+#include <utility>
 
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/timeline.hpp"
 #include "vaw/ui/trials_panel.hpp"
@@ -184,6 +186,27 @@ void MainWindow::wireConstraints() {
   connect(constraintsDock_, &ConstraintsDock::baseRequested, this, [this](const QString& part) {
     if (maybeSave()) controller_.openWithBase(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, part.toStdString());
   });
+}
+
+void MainWindow::wireSequence() {
+  // A row selects its part as the scene tree does: through the viewport, whose selection every view follows.
+  connect(sequenceDock_, &SequenceDock::partSelected, viewport_, &Viewport::selectPart);
+  connect(viewport_, &Viewport::partSelected, sequenceDock_, &SequenceDock::selectPart);
+  connect(sequenceDock_, &SequenceDock::statusMessage, this,
+          [this](const QString& text) { statusBar()->showMessage(text, 15000); });
+  // File > Export Report before Find Order: the report waits for the order.
+  connect(sequenceDock_, &SequenceDock::orderFound, this, [this] {
+    if (!pendingReport_.isEmpty()) writeReport(std::exchange(pendingReport_, QString()));
+  });
+  const auto notWritten = [this](const QString& why) {
+    if (pendingReport_.isEmpty()) return;
+    const QString text = tr("No report written to %1: %2").arg(std::exchange(pendingReport_, QString()), why);
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    statusBar()->showMessage(text, 15000);
+  };
+  connect(sequenceDock_, &SequenceDock::orderFailed, this, notWritten);
+  connect(&controller_, &AssemblyController::assemblyLoaded, this,
+          [notWritten] { notWritten(tr("the assembly was opened again or changed")); });
 }
 
 void MainWindow::wireXr() {

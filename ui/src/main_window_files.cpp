@@ -1,5 +1,5 @@
-// Opening and saving: what a loaded file starts, File > Save (the scene with its tuning), the session, and
-// asking before unsaved tuning is dropped.
+// Opening and saving: what a loaded file starts, File > Save (the scene with its tuning), the session, the
+// evaluation report, and asking before unsaved tuning is dropped.
 #include "vaw/ui/main_window.hpp"
 
 #include <QAction>
@@ -19,11 +19,14 @@
 
 #include "format.hpp"
 #include "vaw/error.hpp"
+#include "vaw/evaluation/report.hpp"
+#include "vaw/evaluation/session_stats.hpp"
 #include "vaw/sim/scene_file.hpp"
 #include "vaw/sim/session.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/message_log_model.hpp"
+#include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/trials_panel.hpp"
 #include "vaw/ui/viewport.hpp"
@@ -258,6 +261,50 @@ bool MainWindow::saveSession(const QString& file) {
     message(static_cast<int>(MessageLogModel::Severity::Error), tr("Could not save the session: %1").arg(e.what()));
     return false;
   }
+}
+
+void MainWindow::exportReportDialog() {
+  if (controller_.assembly() == nullptr) return;
+  const QString dir =
+      QFileDialog::getExistingDirectory(this, tr("Export the report into"), QFileInfo(controller_.currentPath()).absolutePath());
+  if (!dir.isEmpty()) exportReport(dir);
+}
+
+void MainWindow::exportReport(const QString& dir) {
+  if (controller_.assembly() == nullptr) return;
+  if (sequenceDock_->plan() != nullptr) {
+    writeReport(dir);
+    return;
+  }
+  pendingReport_ = dir;
+  // Where the search's progress and any reason it finds no order show.
+  sequenceDock_->show();
+  sequenceDock_->raise();
+  if (!sequenceDock_->finding()) sequenceDock_->findOrder();
+  statusBar()->showMessage(tr("Finding the order for the report..."));
+}
+
+void MainWindow::writeReport(const QString& dir) {
+  const vaw::eval::SequencePlan* plan = sequenceDock_->plan();
+  if (plan == nullptr || !controller_.scene()) return;
+  std::vector<vaw::eval::SessionStats> sessions;
+  QString text;
+  try {
+    // The session replayed on the scene it was recorded on: a trial's scale is not the scene's.
+    if (simulation_->hasWorld() && simulation_->recorder().length() > 0)
+      sessions.push_back(vaw::eval::sessionStats(simulation_->recorder().scenePtr(), simulation_->recorder().session(),
+                                                 tr("this session").toStdString()));
+    const vaw::eval::ReportFiles files = vaw::eval::writeReport(controller_.scene()->assembly(), *plan, sessions,
+                                                                std::filesystem::path(QFile::encodeName(dir).toStdString()));
+    text = tr("Wrote the report to %1").arg(QFile::decodeName(files.html.string().c_str()));
+    message(static_cast<int>(MessageLogModel::Severity::Info), text,
+            sessions.empty() ? tr("No session: nothing was simulated yet.")
+                             : tr("With this session (%1 s).").arg(format::number(sessions.front().duration_s)));
+  } catch (const std::exception& e) {  // vaw::OutputError naming the file; a failed replay too
+    text = tr("Could not write the report into %1: %2").arg(dir, QString::fromUtf8(e.what()));
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+  }
+  statusBar()->showMessage(text, 15000);
 }
 
 }  // namespace vaw::ui

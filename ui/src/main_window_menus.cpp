@@ -19,6 +19,7 @@
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/trials_panel.hpp"
 #include "vaw/ui/tuning.hpp"
@@ -60,6 +61,9 @@ void MainWindow::createMenus() {
   save->setShortcut(QKeySequence(tr("Ctrl+Shift+S")));
   file->addAction(tr("Export Timeline as &PNG..."), timelineDock_, &TimelineDock::exportPngRequested);
   file->addAction(tr("Export Timeline as &CSV..."), timelineDock_, &TimelineDock::exportCsvRequested);
+  QAction* report = file->addAction(tr("Export R&eport..."), this, &MainWindow::exportReportDialog);
+  report->setObjectName(QStringLiteral("exportReportAction"));
+  report->setToolTip(tr("The evaluation report: the order, each part's way home, this session's figures (HTML, CSV, JSON)"));
   file->addSeparator();
   QAction* quit = file->addAction(tr("&Quit"), this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
@@ -113,6 +117,7 @@ void MainWindow::createMenus() {
   view->addAction(workPrecisionDock_->toggleViewAction());
   view->addAction(trialsDock_->toggleViewAction());
   view->addAction(constraintsDock_->toggleViewAction());
+  view->addAction(sequenceDock_->toggleViewAction());
 
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);

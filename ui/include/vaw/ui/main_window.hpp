@@ -37,6 +37,7 @@ class MotionChartDock;
 class WorkPrecisionDock;
 class TrialsDock;
 class ConstraintsDock;
+class SequenceDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -59,6 +60,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] WorkPrecisionDock* workPrecisionDock() const { return workPrecisionDock_; }
   [[nodiscard]] TrialsDock* trialsDock() const { return trialsDock_; }
   [[nodiscard]] ConstraintsDock* constraintsDock() const { return constraintsDock_; }
+  [[nodiscard]] SequenceDock* sequenceDock() const { return sequenceDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -82,6 +84,11 @@ class MainWindow : public QMainWindow {
   bool saveSession(const QString& file);
   bool exportTimelinePng(const QString& file);
   bool exportTimelineCsv(const QString& file);
+  // File > Export Report: the folder asked for, then exportReport.
+  void exportReportDialog();
+  // The evaluation report (vaw::eval::writeReport) into `dir`, with this window's session when it has
+  // steps. Without an order yet, the Sequence panel finds one first and the report follows it.
+  void exportReport(const QString& dir);
   // File > Save: the scene with the tuning as edited (vaw::sim::saveScene); Save As when the file opened is
   // not a scene. Returns false, having said why, when nothing was saved.
   bool save();
@@ -121,6 +128,9 @@ class MainWindow : public QMainWindow {
   // trial's scale to themselves, and the panels that show the fall's speed or duration close until it ends.
   void setBlinded(bool blinded);
   void wireConstraints();
+  void wireSequence();
+  // Writes the report with the order found; says where, or why not.
+  void writeReport(const QString& dir);
   void wireXr();
   // main_window_tuning.cpp
   void wireTuning();
@@ -172,6 +182,8 @@ class MainWindow : public QMainWindow {
   WorkPrecisionDock* workPrecisionDock_ = nullptr;
   TrialsDock* trialsDock_ = nullptr;
   ConstraintsDock* constraintsDock_ = nullptr;
+  SequenceDock* sequenceDock_ = nullptr;
+  QString pendingReport_;  // the folder a report waits for the order to be written into
   bool blinded_ = false;
   std::vector<QDockWidget*> closedForBlinding_;
   bool motionStale_ = true;  // a new world: the motion chart replays it when next shown
