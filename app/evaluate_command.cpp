@@ -20,20 +20,7 @@ namespace vaw::app {
 namespace {
 
 using nlohmann::json;
-
-// "down", "up" or the components: how a part comes home (along -out).
-std::string travel(const Eigen::Vector3d& out) {
-  const Eigen::Vector3d in = -out;
-  const char* axes[] = {"x", "y", "z"};
-  for (int i = 0; i < 3; ++i)
-    if (std::abs(std::abs(in[i]) - 1.0) < 1e-6) {
-      if (i == 2) return in[i] < 0 ? "down" : "up";
-      return std::string(in[i] < 0 ? "along -" : "along +") + axes[i];
-    }
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "along (%.3f, %.3f, %.3f)", in.x(), in.y(), in.z());
-  return buf;
-}
+using eval::travelText;
 
 std::string blockers(const Assembly& a, const eval::Direction& d) {
   if (d.blockers.empty()) return "free";
@@ -113,7 +100,7 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
   for (std::size_t i = 0; i < plan.order.size(); ++i) {
     const PartId p = plan.order[i];
     std::string home = "(the base)", after;
-    if (const auto* way = plan.wayOf(p)) home = travel(way->out) + ": " + way->from;
+    if (const auto* way = plan.wayOf(p)) home = travelText(way->out) + ": " + way->from;
     for (const auto& e : plan.precedence)
       if (e.after == p)
         after += (after.empty() ? "" : ", ") + a.parts[e.before].name + (e.reason == eval::Precedence::Reason::Partner ? " (partner)" : " (whose way it blocks)");
@@ -131,7 +118,7 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
       }
       const auto* c = plan.checkOf(s.part);
       for (std::size_t k = 0; k < c->directions.size(); ++k)
-        std::printf("%s %s (%s): %s", k ? ";" : "", travel(c->directions[k].out).c_str(), c->directions[k].from.c_str(),
+        std::printf("%s %s (%s): %s", k ? ";" : "", travelText(c->directions[k].out).c_str(), c->directions[k].from.c_str(),
                     blockers(a, c->directions[k]).c_str());
       std::printf("\n");
     }
@@ -146,7 +133,7 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
   for (const auto& c : plan.checks) {
     std::printf("  %s\n", a.parts[c.part].name.c_str());
     for (const auto& d : c.directions)
-      std::printf("    %-10s %-36s %s\n", travel(d.out).c_str(), d.from.c_str(), blockers(a, d).c_str());
+      std::printf("    %-10s %-36s %s\n", travelText(d.out).c_str(), d.from.c_str(), blockers(a, d).c_str());
   }
 }
 

@@ -16,19 +16,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string travel(const Eigen::Vector3d& out) {
-  const Eigen::Vector3d in = -out;
-  const char* axes[] = {"x", "y", "z"};
-  for (int i = 0; i < 3; ++i)
-    if (std::abs(std::abs(in[i]) - 1.0) < 1e-6) {
-      if (i == 2) return in[i] < 0 ? "down" : "up";
-      return std::string(in[i] < 0 ? "along -" : "along +") + axes[i];
-    }
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "along (%.3f %.3f %.3f)", in.x(), in.y(), in.z());
-  return buf;
-}
-
 std::string html(const std::string& s) {
   std::string o;
   for (const char c : s) {
@@ -212,7 +199,7 @@ std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const
       r.step = "base";
     } else if (at != plan.order.end()) {
       r.step = std::to_string(plan.step[static_cast<std::size_t>(at - plan.order.begin())]);
-      r.comesHome = travel(way->out) + ": " + way->from;
+      r.comesHome = travelText(way->out) + ": " + way->from;
     } else {
       r.step = "no order";
       for (const auto& s : plan.stuck)
@@ -291,7 +278,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
         after += (after.empty() ? "" : " ") + a.parts[e.before].name + (e.reason == Precedence::Reason::Partner ? "(partner)" : "(blocks)");
     const Direction* way = plan.wayOf(p);
     sequenceCsv += std::to_string(i) + "," + std::to_string(plan.step[i]) + "," + csv(a.parts[p].name) + "," +
-                   csv(way ? travel(way->out) + ": " + way->from : std::string()) + "," + csv(after) + "\n";
+                   csv(way ? travelText(way->out) + ": " + way->from : std::string()) + "," + csv(after) + "\n";
   }
   // sessions.csv: every part in every session.
   std::string sessionsCsv = "session,part,first_handled_s,placed_s,time_to_place_s,grabs,tool_lifts,drops,refusals,blocked,carried_m,held_by\n";
@@ -359,7 +346,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
     const Direction* way = plan.wayOf(p);
     h += "<figure><img alt='step " + std::to_string(plan.step[i]) + "' width='320' height='220' src='" + picture(a, plan, i, 320, 220) +
          "'><figcaption>" + std::to_string(i) + ". step " + std::to_string(plan.step[i]) + ": <b>" + html(a.parts[p].name) + "</b> " +
-         (way ? html(travel(way->out) + " (" + way->from + ")") : std::string("(the base)")) + "</figcaption></figure>\n";
+         (way ? html(travelText(way->out) + " (" + way->from + ")") : std::string("(the base)")) + "</figcaption></figure>\n";
   }
   h += "</div>\n";
   if (plan.order.size() > pictured) h += "<p>Steps after " + std::to_string(pictured) + " are in the table only.</p>\n";
@@ -377,7 +364,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
         std::string names;
         for (const auto& b : c->directions[k].blockers)
           names += (names.empty() ? "" : ", ") + a.parts[b.by].name + " after " + formatNumber(1e3 * b.distance) + " mm";
-        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>" + html(travel(c->directions[k].out) + " (" + c->directions[k].from + ")") +
+        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>" + html(travelText(c->directions[k].out) + " (" + c->directions[k].from + ")") +
              "</td><td>" + html(names) + "</td></tr>\n";
       }
     }

@@ -1,6 +1,8 @@
 #include "vaw/evaluation/sequence.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <set>
 
 #include "vaw/collision/collision_world.hpp"
@@ -54,6 +56,19 @@ std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vect
 }
 
 }  // namespace
+
+std::string travelText(const Eigen::Vector3d& out) {
+  const Eigen::Vector3d in = -out;
+  const char* axes[] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(std::abs(in[i]) - 1.0) < 1e-6) {
+      if (i == 2) return in[i] < 0 ? "down" : "up";
+      return std::string(in[i] < 0 ? "along -" : "along +") + axes[i];
+    }
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "along (%.3f, %.3f, %.3f)", in.x(), in.y(), in.z());
+  return buf;
+}
 
 const PartCheck* SequencePlan::checkOf(PartId p) const {
   for (const auto& c : checks)

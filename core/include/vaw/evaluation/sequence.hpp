@@ -75,6 +75,10 @@ struct SequenceOptions {
   double maxStep = 1e-3;    // m: within this of another part, the blocked check every maxStep of motion
 };
 
+// How a part travels home along a way out `out`, for people: "down", "up", "along +x", or the components
+// "along (0.707, 0.000, -0.707)".
+std::string travelText(const Eigen::Vector3d& out);
+
 // Throws vaw::Error when the assembly has no base. `progress` (may be empty) is asked between parts;
 // returning false stops with LoadCancelled.
 SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& options = {}, const ProgressFn& progress = {});
