@@ -57,38 +57,39 @@ QString afterText(const vaw::Assembly& a, const vaw::eval::SequencePlan& plan, v
 
 SequenceModel::SequenceModel(QObject* parent) : QAbstractTableModel(parent) {}
 
-void SequenceModel::setPlan(const vaw::Assembly* assembly, const vaw::eval::SequencePlan* plan,
-                            const std::vector<vaw::eval::PartRow>& rows) {
+void SequenceModel::setPlan(const vaw::Assembly* assembly, const vaw::eval::SequencePlan* plan) {
   beginResetModel();
   rows_.clear();
   if (assembly != nullptr && plan != nullptr) {
     const vaw::Assembly& a = *assembly;
-    for (const vaw::eval::PartRow& r : rows) {
+    for (std::size_t i = 0; i < plan->order.size(); ++i) {
+      const vaw::PartId p = plan->order[i];
       Row row;
-      row.part = r.part;
-      row.name = str(r.name);
-      row.step = str(r.step);
-      const auto at = std::find(plan->order.begin(), plan->order.end(), r.part);
-      if (at != plan->order.end()) {
-        row.position = QString::number(at - plan->order.begin() + 1);
-        row.home = a.base == r.part ? tr("(the base)") : str(r.comesHome);
-        row.after = afterText(a, *plan, r.part);
-      } else {
-        const auto stuck = std::find_if(plan->stuck.begin(), plan->stuck.end(), [&](const auto& s) { return s.part == r.part; });
-        if (stuck == plan->stuck.end()) continue;
-        row.stuck = true;
-        const vaw::eval::PartCheck* check = plan->checkOf(r.part);
-        QStringList ways;
-        for (std::size_t k = 0; k < stuck->blockers.size(); ++k) {
-          const QString from =
-              check != nullptr && k < check->directions.size() ? str(check->directions[k].from) : tr("way %1").arg(k + 1);
-          ways << QStringLiteral("%1: %2").arg(from, stuck->blockers[k].empty() ? tr("free") : names(a, stuck->blockers[k]));
-        }
-        if (!stuck->waitsFor.empty())
-          ways << tr("waits for its partner %1, which no order inserts").arg(names(a, stuck->waitsFor));
-        row.blockers = ways.join(QStringLiteral("; "));
-        row.home = tr("no way home: %1").arg(row.blockers);
+      row.part = p;
+      row.name = str(a.parts[p].name);
+      row.position = QString::number(i + 1);
+      const vaw::eval::Direction* way = plan->wayOf(p);
+      row.step = way == nullptr ? tr("base") : QString::number(plan->step[i]);
+      row.home = way == nullptr ? tr("(the base)") : str(vaw::eval::travelText(way->out) + ": " + way->from);
+      row.after = afterText(a, *plan, p);
+      rows_.push_back(std::move(row));
+    }
+    for (const vaw::eval::Stuck& stuck : plan->stuck) {
+      Row row;
+      row.part = stuck.part;
+      row.name = str(a.parts[stuck.part].name);
+      row.step = tr("no order");
+      row.stuck = true;
+      const vaw::eval::PartCheck* check = plan->checkOf(stuck.part);
+      QStringList ways;
+      for (std::size_t k = 0; k < stuck.blockers.size(); ++k) {
+        const QString from =
+            check != nullptr && k < check->directions.size() ? str(check->directions[k].from) : tr("way %1").arg(k + 1);
+        ways << QStringLiteral("%1: %2").arg(from, stuck.blockers[k].empty() ? tr("free") : names(a, stuck.blockers[k]));
       }
+      if (!stuck.waitsFor.empty()) ways << tr("waits for its partner %1, which no order inserts").arg(names(a, stuck.waitsFor));
+      row.blockers = ways.join(QStringLiteral("; "));
+      row.home = tr("no way home: %1").arg(row.blockers);
       rows_.push_back(std::move(row));
     }
   }
@@ -224,7 +225,7 @@ void SequenceDock::assemblyLoaded() {
   // Another scene, or this one with other constraints: the ways home and the order may differ.
   if (cancel_) cancel_->store(true);
   plan_.reset();
-  model_->setPlan(nullptr, nullptr, {});
+  model_->setPlan(nullptr, nullptr);
   hint_->setStyleSheet({});
   showIdle();
 }
@@ -239,7 +240,7 @@ void SequenceDock::findOrder() {
   std::shared_ptr<const vaw::sim::Scene> scene = controller_.scene();
   if (!scene) return;
   plan_.reset();
-  model_->setPlan(nullptr, nullptr, {});
+  model_->setPlan(nullptr, nullptr);
   hint_->setStyleSheet({});
   hint_->setText(tr("Finding the order…"));
   progress_->setValue(0);
@@ -265,9 +266,7 @@ void SequenceDock::findOrder() {
     Outcome out;
     out.scene = scene;
     try {
-      vaw::eval::SequencePlan plan = vaw::eval::planSequence(scene->assembly(), {}, progress);
-      out.rows = vaw::eval::partRows(scene->assembly(), plan, {});
-      out.plan = std::move(plan);
+      out.plan = vaw::eval::planSequence(scene->assembly(), {}, progress);
     } catch (const vaw::LoadCancelled&) {
       out.cancelled = true;
     } catch (const std::exception& e) {  // vaw::InputError: an assembly without a base has no order
@@ -292,7 +291,7 @@ void SequenceDock::finished() {
   }
   plan_ = std::move(out.plan);
   const vaw::Assembly& a = out.scene->assembly();
-  model_->setPlan(&a, &*plan_, out.rows);
+  model_->setPlan(&a, &*plan_);
   const int inserted = static_cast<int>(plan_->order.size()) - 1;
   QString text = plan_->complete()
                      ? tr("An order puts every part in place: %1 after the base.").arg(inserted)

@@ -35,17 +35,6 @@ std::string csv(const std::string& s) {
   return o + "\"";
 }
 
-const Constraint* constraintFor(const Assembly& a, PartId p, const Direction* way) {
-  const Constraint* first = nullptr;
-  for (const auto& c : a.constraints) {
-    if (c.part != p) continue;
-    if (!first) first = &c;
-    const PartId partner = c.partner ? *c.partner : *a.base;
-    if (way && way->from.rfind(std::string(name(c.type)) + " on " + a.parts[partner].name, 0) == 0) return &c;
-  }
-  return first;
-}
-
 Eigen::Vector3f colorOf(const Assembly& a, PartId p) {
   if (a.parts[p].color) return *a.parts[p].color;
   static const Eigen::Vector3f palette[] = {{0.27f, 0.51f, 0.71f}, {0.85f, 0.55f, 0.2f}, {0.4f, 0.65f, 0.35f},
@@ -59,12 +48,18 @@ Eigen::Isometry3d homeOf(const Assembly& a, PartId p) {
 
 // The assembly, or its state at one step of the order: the parts before it grey, the step's part in its
 // colour with the way it comes home, the parts after it left out.
-std::string picture(const Assembly& a, const SequencePlan& plan, std::optional<std::size_t> step, int w, int h) {
+// Every picture frames the whole assembly, so that the steps line up.
+Eigen::AlignedBox3d assembledBounds(const Assembly& a, const SequencePlan& plan) {
   Eigen::AlignedBox3d box;
   for (const PartId p : plan.order)
     for (const auto& v : a.parts[p].mesh->vertices) box.extend(homeOf(a, p) * v);
   for (const auto& s : plan.stuck)
     for (const auto& v : a.parts[s.part].mesh->vertices) box.extend(homeOf(a, s.part) * v);
+  return box;
+}
+
+std::string picture(const Assembly& a, const SequencePlan& plan, const Eigen::AlignedBox3d& box, std::optional<std::size_t> step, int w,
+                    int h) {
   detail::Picture pic(w, h, box);
   const std::size_t upto = step ? *step : plan.order.size() - 1;
   for (std::size_t i = 0; i <= upto && i < plan.order.size(); ++i) {
@@ -213,8 +208,9 @@ std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const
     }
     if (!(a.base && p == *a.base)) {
       const PartCheck* c = plan.checkOf(p);
-      const Eigen::Vector3d out = way ? way->out : (c && !c->directions.empty() ? c->directions.front().out : Eigen::Vector3d::UnitZ());
-      r.estimate = estimateDfa(a, p, out, constraintFor(a, p, way));
+      // A part no order inserts is estimated along its first way home.
+      const Direction* d = way ? way : (c && !c->directions.empty() ? &c->directions.front() : nullptr);
+      r.estimate = estimateDfa(a, p, d ? d->out : Eigen::Vector3d::UnitZ(), d && d->constraint ? &a.constraints[*d->constraint] : nullptr);
     }
     r.sessions = static_cast<int>(sessions.size());
     for (const auto& pa : cmp.parts)
@@ -334,17 +330,18 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                   "th{background:#eef2f6;text-align:left}td.n{text-align:right}.stuck{color:#b22}"
                   ".steps{display:flex;flex-wrap:wrap;gap:10px}.steps figure{margin:0;width:320px}figcaption{font-size:12px}"
                   "</style></head><body>\n";
+  const Eigen::AlignedBox3d box = assembledBounds(a, plan);
   h += "<h1>" + html(a.name) + "</h1>\n<p>" +
        (plan.complete() ? "An order puts every part in place."
                         : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
        " " + std::to_string(plan.order.size()) + " parts in the order, base " + html(a.parts[*plan.base].name) + ".</p>\n";
-  h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, std::nullopt, 640, 440) + "'>\n";
+  h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, box, std::nullopt, 640, 440) + "'>\n";
   h += "<h2>Order</h2>\n<div class='steps'>\n";
   const std::size_t pictured = std::min<std::size_t>(plan.order.size(), 40);
   for (std::size_t i = 0; i < pictured; ++i) {
     const PartId p = plan.order[i];
     const Direction* way = plan.wayOf(p);
-    h += "<figure><img alt='step " + std::to_string(plan.step[i]) + "' width='320' height='220' src='" + picture(a, plan, i, 320, 220) +
+    h += "<figure><img alt='step " + std::to_string(plan.step[i]) + "' width='320' height='220' src='" + picture(a, plan, box, i, 320, 220) +
          "'><figcaption>" + std::to_string(i) + ". step " + std::to_string(plan.step[i]) + ": <b>" + html(a.parts[p].name) + "</b> " +
          (way ? html(travelText(way->out) + " (" + way->from + ")") : std::string("(the base)")) + "</figcaption></figure>\n";
   }

@@ -23,34 +23,36 @@ std::pair<double, double> along(const Eigen::AlignedBox3d& b, const Eigen::Vecto
 
 std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vector<Eigen::Isometry3d>& home) {
   std::vector<Direction> dirs;
-  auto add = [&](Eigen::Vector3d out, std::string from, bool axis) {
+  auto add = [&](Eigen::Vector3d out, std::string from, std::optional<std::size_t> constraint, bool axis) {
     out.normalize();
     for (auto& d : dirs)
       if (d.out.dot(out) > 1.0 - 1e-9) {
         d.alongAxis = d.alongAxis || axis;
         return;
       }
-    dirs.push_back({out, std::move(from), axis, {}});
+    dirs.push_back({out, std::move(from), constraint, axis, {}});
   };
   struct Insert {
     Eigen::Vector3d out;
     std::string from;
+    std::size_t constraint;
   };
   std::vector<Insert> otherEnds;
-  for (const Constraint& c : a.constraints) {
+  for (std::size_t i = 0; i < a.constraints.size(); ++i) {
+    const Constraint& c = a.constraints[i];
     if (c.part != p) continue;
     const PartId partner = c.partner ? *c.partner : *a.base;
     const Eigen::Vector3d out = home[partner].linear() * c.homeDirection;
     const std::string from = std::string(name(c.type)) + " on " + a.parts[partner].name;
-    add(out, from, c.type == Constraint::Type::Insert);
-    if (c.type == Constraint::Type::Insert) otherEnds.push_back({-out, from + " (other end)"});
+    add(out, from, i, c.type == Constraint::Type::Insert);
+    if (c.type == Constraint::Type::Insert) otherEnds.push_back({-out, from + " (other end)", i});
   }
-  for (const Insert& e : otherEnds) add(e.out, e.from, true);
+  for (const Insert& e : otherEnds) add(e.out, e.from, e.constraint, true);
   if (dirs.empty()) {
     const std::pair<Eigen::Vector3d, const char*> axes[] = {{Eigen::Vector3d::UnitZ(), "world +z"}, {-Eigen::Vector3d::UnitZ(), "world -z"},
                                                             {Eigen::Vector3d::UnitX(), "world +x"}, {-Eigen::Vector3d::UnitX(), "world -x"},
                                                             {Eigen::Vector3d::UnitY(), "world +y"}, {-Eigen::Vector3d::UnitY(), "world -y"}};
-    for (const auto& [v, label] : axes) add(v, label, false);
+    for (const auto& [v, label] : axes) add(v, label, std::nullopt, false);
   }
   return dirs;
 }

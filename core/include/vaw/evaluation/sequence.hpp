@@ -26,6 +26,7 @@ struct Blocker {
 struct Direction {
   Eigen::Vector3d out = Eigen::Vector3d::UnitZ();  // world, unit
   std::string from;  // what gives the direction: "insert stud-1 on base-plate", "... (other end)", "world +z"
+  std::optional<std::size_t> constraint;  // the constraint that gives it (index into Assembly::constraints)
   bool alongAxis = false;           // an insert's axis (the sweep slides along coaxial surfaces)
   std::vector<Blocker> blockers;    // every part in the way at the final poses, nearest first
 };

@@ -15,7 +15,6 @@
 #include <optional>
 #include <vector>
 
-#include "vaw/evaluation/report.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/sim/scene.hpp"
 
@@ -34,9 +33,9 @@ class SequenceModel : public QAbstractTableModel {
   enum Column { PositionColumn, StepColumn, PartColumn, HomeColumn, AfterColumn, ColumnCount };
 
   explicit SequenceModel(QObject* parent = nullptr);
-  // The order first, then the parts no order inserts; empty without a plan. `rows` are the report's
-  // (vaw::eval::partRows), so the panel and the report word each part's way home alike.
-  void setPlan(const vaw::Assembly* assembly, const vaw::eval::SequencePlan* plan, const std::vector<vaw::eval::PartRow>& rows);
+  // The order first, then the parts no order inserts; empty without a plan. Ways home are worded by
+  // vaw::eval::travelText, as in the report.
+  void setPlan(const vaw::Assembly* assembly, const vaw::eval::SequencePlan* plan);
   [[nodiscard]] std::optional<vaw::PartId> partAt(int row) const;
   [[nodiscard]] int rowOf(vaw::PartId part) const;
   [[nodiscard]] bool isStuck(int row) const;
@@ -93,7 +92,6 @@ class SequenceDock : public QDockWidget {
   struct Outcome {
     std::shared_ptr<const vaw::sim::Scene> scene;
     std::optional<vaw::eval::SequencePlan> plan;
-    std::vector<vaw::eval::PartRow> rows;
     QString error;
     bool cancelled = false;
   };
