@@ -268,6 +268,42 @@ double distanceToTriangles(const CadSolid& s, const CadFace& f, const Eigen::Vec
   return best;
 }
 
+// One constraint per pair of parts and axis (insert) or plane (mate): faces of one surface that a solid
+// still has apart (a stepped shaft's two diameters in a stepped bore, two feet on one plane that the
+// exporter left separate) add their overlap to the first, and an insert keeps its tightest fit.
+std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, const RecognitionTolerances& tol) {
+  std::vector<FoundConstraint> out;
+  for (FoundConstraint& f : found) {
+    FoundConstraint* same = nullptr;
+    for (FoundConstraint& g : out) {
+      if (g.a != f.a || g.b != f.b || g.type != f.type) continue;
+      if (f.direction.cross(g.direction).norm() > tol.angle) continue;
+      const Eigen::Vector3d rel = f.point - g.point;
+      const double apart = f.type == Constraint::Type::Insert ? (rel - g.direction * g.direction.dot(rel)).norm()
+                                                              : std::abs(g.direction.dot(rel));
+      if (f.type == Constraint::Type::Mate && f.direction.dot(g.direction) < 0.0) continue;
+      if (apart <= tol.distance) {
+        same = &g;
+        break;
+      }
+    }
+    if (!same) {
+      out.push_back(std::move(f));
+      continue;
+    }
+    const double overlap = same->found.overlap + f.found.overlap;
+    if (f.type == Constraint::Type::Insert && f.found.clearance < same->found.clearance) {
+      const Eigen::Vector3d point = same->point, direction = same->direction;
+      *same = f;
+      same->point = point;
+      same->direction = direction;
+    }
+    same->found.overlap = overlap;
+    same->found.fromSpline = same->found.fromSpline || f.found.fromSpline;
+  }
+  return out;
+}
+
 }  // namespace
 
 double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b,
@@ -313,7 +349,7 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
           if (testMate(A, x, B, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
     }
   }
-  return out;
+  return onePerContact(std::move(out), tol);
 }
 
 std::optional<std::size_t> faceAt(const CadSolid& s, const Eigen::Vector3d& point, double tolerance) {
@@ -362,7 +398,8 @@ FacePairResult constraintFromFaces(const std::vector<RecognitionPart>& parts, st
 
 std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>& found, const std::vector<Part>& parts,
                                              PartId base, const std::vector<Eigen::Isometry3d>& finalPoses,
-                                             const std::vector<std::pair<PartId, PartId>>& contacts) {
+                                             const std::vector<std::pair<PartId, PartId>>& contacts,
+                                             const std::vector<std::pair<PartId, PartId>>& first) {
   const std::size_t n = parts.size();
   // Hops from the base over the contact graph: the base goes first, then what touches it, and so on.
   std::vector<std::vector<std::size_t>> next(n);
@@ -393,10 +430,20 @@ std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>&
     for (const auto& v : parts[k].mesh->vertices) z = std::min(z, (finalPoses[k] * v).z());
     lowest[k] = z;
   }
-  // True when `x` is assembled before `y`, so `x` is the partner.
-  const auto before = [&](std::size_t x, std::size_t y) {
+  // True when `x` is assembled before `y`, so `x` is the partner: as the geometry decided, else the base
+  // first, the part nearer the base, the shaft before what goes onto it (a nut onto its bolt), the lower.
+  const auto before = [&](std::size_t x, std::size_t y, const FoundConstraint& f) {
+    for (const auto& [one, two] : first) {
+      if (one == x && two == y) return true;
+      if (one == y && two == x) return false;
+    }
     if (x == base || y == base) return x == base;
     if (hops[x] != hops[y]) return hops[x] < hops[y];
+    if (f.type == Constraint::Type::Insert && parts[f.a].cad && parts[f.b].cad && f.faceA < parts[f.a].cad->faces.size() &&
+        f.faceB < parts[f.b].cad->faces.size()) {
+      const bool aShaft = parts[f.a].cad->faces[f.faceA].convex, bShaft = parts[f.b].cad->faces[f.faceB].convex;
+      if (aShaft != bShaft) return (x == f.a) == aShaft;
+    }
     const double eps = 1e-6;
     if (std::abs(lowest[x] - lowest[y]) > eps) return lowest[x] < lowest[y];
     if (parts[x].mass.mass != parts[y].mass.mass) return parts[x].mass.mass > parts[y].mass.mass;
@@ -406,7 +453,7 @@ std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>&
   std::vector<Constraint> out;
   std::map<std::tuple<std::size_t, std::size_t, int>, int> seen;
   for (const FoundConstraint& f : found) {
-    const bool aFirst = before(f.a, f.b);
+    const bool aFirst = before(f.a, f.b, f);
     const std::size_t part = aFirst ? f.b : f.a, partner = aFirst ? f.a : f.b;
     // Several faces of one pair can give the same kind (a stepped shaft): each is kept, numbered.
     const int count = ++seen[{part, partner, static_cast<int>(f.type)}];

@@ -25,6 +25,7 @@
 #include <thread>
 #include <vector>
 
+#include "vaw/cad_faces.hpp"
 #include "vaw/error.hpp"
 #include "vaw/importer.hpp"
 
@@ -179,6 +180,8 @@ std::shared_ptr<const vaw::CadSolid> solidFrom(const json& j) {
     f.axialMax = jf.value("axialMax", 0.0);
     s->faces.push_back(f);
   }
+  // The reader writes Open CASCADE's faces as they are; a cylinder the exporter split is one surface here.
+  vaw::mergeSplitFaces(*s);
   return s;
 }
 

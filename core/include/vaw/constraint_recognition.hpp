@@ -70,13 +70,16 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
                            const CadFace& fb, const Eigen::Isometry3d& poseB);
 
 // Turns found constraints into the assembly's: one per found pair and kind, with the part and the partner
-// chosen by assembly order (docs/step.md: the part nearer the base in the contact graph is the partner;
-// on a tie, the one whose lowest point is lower, then the heavier), geometry in each one's frame, the
-// base as an empty partner, and the direction each part comes home from. `finalPoses` are the parts'
-// assembled poses, `lowest` their lowest world z there. `contacts` are further pairs of parts that touch
-// (the assembly's other constraints, when one pair is added to them), counted in the assembly order only.
+// chosen by assembly order (docs/step.md, "Who goes first"): `first` holds (before, after) pairs the
+// geometry decided (eval::geometricPrecedence); for the other pairs the base goes first, then the part
+// nearer the base in the contact graph, then for an insert the shaft before the part with the bore (a nut
+// goes onto its bolt), then the one whose lowest point is lower, then the heavier. Geometry in each one's
+// frame, the base as an empty partner, and the direction each part comes home from. `finalPoses` are the
+// parts' assembled poses. `contacts` are further pairs of parts that touch (the assembly's other
+// constraints, when one pair is added to them), counted in the assembly order only.
 std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>& found, const std::vector<Part>& parts,
                                              PartId base, const std::vector<Eigen::Isometry3d>& finalPoses,
-                                             const std::vector<std::pair<PartId, PartId>>& contacts = {});
+                                             const std::vector<std::pair<PartId, PartId>>& contacts = {},
+                                             const std::vector<std::pair<PartId, PartId>>& first = {});
 
 }  // namespace vaw

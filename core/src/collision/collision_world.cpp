@@ -53,11 +53,13 @@ std::string displayName(const WorldObject& o) {
 }
 
 // Builds the BVH of a mesh (valid triangles only) and its surface patches; reports what is wrong with it.
-void buildMesh(WorldObject& o, std::shared_ptr<const TriMesh> mesh, const PatchOptions& popts, Diagnostics& diags) {
+// `cad`: the part's CAD solid, whose exact cylinders the patches take when `mesh` is its tessellation.
+void buildMesh(WorldObject& o, std::shared_ptr<const TriMesh> mesh, const PatchOptions& popts, Diagnostics& diags,
+               const CadSolid* cad = nullptr) {
   const auto t0 = std::chrono::steady_clock::now();
   o.mesh = std::move(mesh);
   const TriMesh& m = *o.mesh;
-  o.patches = std::make_shared<const SurfacePatches>(classifySurfaces(m, popts));
+  o.patches = std::make_shared<const SurfacePatches>(classifySurfaces(m, cad, popts));
   const std::string who = displayName(o);
   if (o.patches->degenerateTriangles > 0)
     warn(diags, Diagnostic::Severity::Warning, who, "degenerate-triangles",
@@ -271,7 +273,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     return nullptr;
   };
   std::multimap<std::uint64_t, const WorldObject*> built;
-  auto setupMesh = [&](WorldObject& o, const std::shared_ptr<const TriMesh>& display) {
+  auto setupMesh = [&](WorldObject& o, const std::shared_ptr<const TriMesh>& display, const CadSolid* cad) {
     o.info.displayTriangles = display ? display->triangleCount() : 0;
     if (!display) {
       warn(w.diagnostics, Diagnostic::Severity::Error, displayName(o), "no-geometry", "a mesh", "none");
@@ -288,7 +290,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
         full.id = o.id;
         full.info.name = o.info.name;
         Diagnostics ignore;
-        buildMesh(full, display, options.patches, ignore);
+        buildMesh(full, display, options.patches, ignore, cad);
         double dev = full.bvh ? sampledDeviation(*simple, *full.bvh, 20000) : 0.0;
         if (full.bvh) dev = std::max(dev, sampledDeviation(*display, *o.bvh, 20000));
         o.info.deviation = dev;
@@ -321,7 +323,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
       o.info.proxyReason = "full mesh, shared with " + displayName(first);
       return;
     }
-    buildMesh(o, display, options.patches, w.diagnostics);
+    buildMesh(o, display, options.patches, w.diagnostics, cad);
     if (o.bvh) {
       o.info.proxy = ProxyKind::Mesh;
       o.info.proxyReason = "full mesh";
@@ -336,7 +338,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     o.info.name = p.name;
     o.pose = p.pose;
     o.com = p.mass.centerOfMass;
-    setupMesh(o, p.mesh);
+    setupMesh(o, p.mesh, p.cad.get());
   }
   for (std::size_t i = 0; i < assembly.environment.size(); ++i) {
     const EnvironmentObject& e = assembly.environment[i];
@@ -347,7 +349,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     o.pose = e.pose;
     o.info.displayTriangles = e.mesh ? e.mesh->triangleCount() : 0;
     if (options.environmentPrimitives && !simplifiedFor(o.id) && e.mesh && tryPrimitive(o, e, w.diagnostics)) continue;
-    setupMesh(o, e.mesh);
+    setupMesh(o, e.mesh, nullptr);
   }
   w.makeBroadPhase();
   // What the part inspector shows of a constrained part: how each of its constraints meets the base.

@@ -189,7 +189,7 @@ std::vector<ConstraintFit> constraintFits(const Assembly& a, const Tolerances& t
   std::vector<std::optional<SurfacePatches>> patches(a.parts.size());
   const auto of = [&](PartId id) -> const SurfacePatches* {
     if (id >= a.parts.size() || !a.parts[id].mesh) return nullptr;
-    if (!patches[id]) patches[id] = classifySurfaces(*a.parts[id].mesh);
+    if (!patches[id]) patches[id] = classifySurfaces(*a.parts[id].mesh, a.parts[id].cad.get());
     return &*patches[id];
   };
   for (std::size_t i = 0; i < a.constraints.size(); ++i) {

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "geometry2d.hpp"
+#include "vaw/importer.hpp"
 
 namespace vaw::collision {
 
@@ -192,7 +193,58 @@ bool fitCircle(const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d& centre,
 
 struct PatchEdge { int other; int a, b; };  // a neighbouring planar patch across the welded edge (a, b)
 
-void findCylinders(const Topology& topo, SurfacePatches& out) {
+// A CAD solid's cylinders (its exact faces, already merged across splits) as patches: the facets are the
+// planar patches of the face's triangles, the axis, radius and side the CAD system's. Triangle ranges that
+// do not fit the mesh are skipped, so a mesh that is not the solid's own tessellation gets no cylinder.
+void cylindersFromCad(const CadSolid& cad, const Topology& topo, SurfacePatches& out, std::vector<int>& cylOfPlane) {
+  const auto& wv = topo.welded.vertices;
+  for (const CadFace& f : cad.faces) {
+    if (f.surface != CadFace::Surface::Cylinder || f.triangleCount == 0 || !(f.radius > 0.0)) continue;
+    if (f.firstTriangle + f.triangleCount > out.planeOf.size()) continue;
+    const int ci = static_cast<int>(out.cylinders.size());
+    CylindricalPatch c;
+    const Eigen::Vector3d axis = f.direction.normalized();
+    c.direction = axis;
+    c.radius = f.radius;
+    c.convex = f.convex;
+    c.point = f.point + f.axialMin * axis;
+    c.length = f.axialMax - f.axialMin;
+    const Eigen::Vector3d e1 = perpendicular(axis), e2 = axis.cross(e1);
+    std::vector<double> angles;
+    double closest = f.radius;
+    for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount; ++t) {
+      const int plane = out.planeOf[t];
+      if (plane < 0) continue;
+      c.triangles.push_back(static_cast<int>(t));
+      c.facets.push_back(plane);
+      for (int k = 0; k < 3; ++k) {
+        Eigen::Vector3d d = wv[static_cast<std::size_t>(topo.welded.triangles[t][k])] - c.point;
+        d -= axis * axis.dot(d);
+        c.residual = std::max(c.residual, std::abs(d.norm() - f.radius));
+        angles.push_back(std::atan2(d.dot(e2), d.dot(e1)));
+      }
+      // The facet's plane lies inside the true surface by up to the sagitta.
+      Eigen::Vector3d centre = (vertexOf(topo.welded, static_cast<int>(t), 0) + vertexOf(topo.welded, static_cast<int>(t), 1) +
+                                vertexOf(topo.welded, static_cast<int>(t), 2)) / 3.0 - c.point;
+      centre -= axis * axis.dot(centre);
+      closest = std::min(closest, std::abs(out.normals[t].dot(centre)));
+    }
+    if (c.triangles.empty()) continue;
+    c.sagitta = std::max(0.0, f.radius - closest);
+    std::sort(angles.begin(), angles.end());
+    double gap = 2.0 * kPi - (angles.back() - angles.front());
+    for (std::size_t i = 1; i < angles.size(); ++i) gap = std::max(gap, angles[i] - angles[i - 1]);
+    c.coverage = std::clamp(2.0 * kPi - gap, 0.0, 2.0 * kPi);
+    std::sort(c.facets.begin(), c.facets.end());
+    c.facets.erase(std::unique(c.facets.begin(), c.facets.end()), c.facets.end());
+    for (int t : c.triangles) out.cylinderOf[static_cast<std::size_t>(t)] = ci;
+    for (int pl : c.facets)
+      if (cylOfPlane[static_cast<std::size_t>(pl)] < 0) cylOfPlane[static_cast<std::size_t>(pl)] = ci;
+    out.cylinders.push_back(std::move(c));
+  }
+}
+
+void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* cad) {
   const PatchOptions& o = out.options;
   const std::size_t np = out.planes.size();
   std::vector<std::vector<PatchEdge>> adj(np);
@@ -218,7 +270,8 @@ void findCylinders(const Topology& topo, SurfacePatches& out) {
   std::vector<int> mark(np, -1);  // region membership by seed attempt
 
   int attempt = 0;
-  for (std::size_t seed = 0; seed < np; ++seed) {
+  if (cad) cylindersFromCad(*cad, topo, out, cylOfPlane);
+  for (std::size_t seed = 0; seed < np && !cad; ++seed) {
     if (cylOfPlane[seed] >= 0 || tried[seed]) continue;
     const Eigen::Vector3d& n0 = out.planes[seed].normal;
     for (const PatchEdge& e0 : adj[seed]) {
@@ -370,7 +423,9 @@ void findCylinders(const Topology& topo, SurfacePatches& out) {
 
 }  // namespace
 
-SurfacePatches classifySurfaces(const TriMesh& mesh, const PatchOptions& options) {
+SurfacePatches classifySurfaces(const TriMesh& mesh, const PatchOptions& options) { return classifySurfaces(mesh, nullptr, options); }
+
+SurfacePatches classifySurfaces(const TriMesh& mesh, const CadSolid* cad, const PatchOptions& options) {
   SurfacePatches out;
   out.options = options;
   const std::size_t n = mesh.triangles.size();
@@ -428,7 +483,9 @@ SurfacePatches classifySurfaces(const TriMesh& mesh, const PatchOptions& options
     for (const auto& loop : p.outline) all.insert(all.end(), loop.begin(), loop.end());
     p.hull = geom2::convexHull(std::move(all));
   }
-  findCylinders(topo, out);
+  // The solid's own faces when the mesh is its tessellation (same triangles, same order).
+  if (cad && cad->mesh.triangles.size() != n) cad = nullptr;
+  findCylinders(topo, out, cad);
   return out;
 }
 

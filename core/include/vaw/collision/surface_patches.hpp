@@ -10,6 +10,10 @@
 
 #include "vaw/mesh.hpp"
 
+namespace vaw {
+struct CadSolid;
+}
+
 namespace vaw::collision {
 
 struct PatchOptions {
@@ -81,5 +85,11 @@ struct SurfacePatches {
 // Classifies every triangle once. Never throws on bad geometry: degenerate triangles get no patch and are
 // counted; open or non-manifold edges end patches and are counted.
 SurfacePatches classifySurfaces(const TriMesh& mesh, const PatchOptions& options = {});
+// The same for a CAD part (docs/collision.md, "Surface patches"): the cylinders are the exact cylindrical
+// faces the importer classified (`cad`'s faces, split faces already merged) rather than ones found again in
+// the triangles, which a cylinder split into quarters or tessellated coarsely can hide. Used when `mesh` is
+// the solid's own tessellation (same triangles in the same order); otherwise, or with a null `cad`, the
+// cylinders are found in the triangles as above.
+SurfacePatches classifySurfaces(const TriMesh& mesh, const CadSolid* cad, const PatchOptions& options = {});
 
 }  // namespace vaw::collision
