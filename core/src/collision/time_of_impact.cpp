@@ -253,6 +253,9 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
     }
     s = next;
   }
+  // Out of iterations before the end of the motion: not known to be free.
+  ev.undecided = s < motion.s1;
+  if (ev.undecided) ev.s = ev.sEvent = s;
   return ev;
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <set>
 
 #include "vaw/collision/collision_world.hpp"
@@ -57,7 +58,115 @@ std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vect
   return dirs;
 }
 
+// Where `mover` (at home[mover]) moving out along `out` first meets `obstacle`, if anywhere before it has
+// passed it; the block's distance, or flagged undecided. `whole`: the span to sweep at most.
+struct Sweep {
+  const collision::CollisionWorld& world;
+  const std::vector<Eigen::Isometry3d>& home;
+  collision::ToiOptions toi;
+  int runs = 0, evaluations = 0, undecided = 0;
+
+  std::optional<Blocker> block(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double whole) {
+    const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(mover));
+    // Only as far as the obstacle can be met: until the trailing side passes its leading side.
+    const double reach = along(world.worldBounds(ObjectId::part(obstacle)), out).second - along(box, out).first + 2.0 * toi.tolerance;
+    if (reach <= 0.0) return std::nullopt;
+    const collision::MotionEvent ev =
+        collision::firstBlockBy(world, ObjectId::part(mover), ObjectId::part(obstacle),
+                                collision::translation(home[mover], out, std::min(reach, whole)),
+                                alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
+    ++runs;
+    evaluations += ev.evaluations;
+    if (ev.undecided) {
+      ++undecided;
+      return Blocker{obstacle, ev.s, true};
+    }
+    if (ev.kind != collision::EventKind::Blocked) return std::nullopt;
+    return Blocker{obstacle, ev.initiallyBlocked ? 0.0 : ev.s, false};
+  }
+};
+
 }  // namespace
+
+std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
+                                                           const SequenceOptions& options, int* sweeps) {
+  std::vector<std::pair<PartId, PartId>> out;
+  if (!assembly.base || home.size() != assembly.parts.size()) return out;
+  const PartId base = *assembly.base;
+  const std::size_t n = assembly.parts.size();
+  // Every way out a part has from the constraints it is in, on either side.
+  struct Way {
+    Eigen::Vector3d out;
+    bool axis;
+  };
+  std::vector<std::vector<Way>> ways(n);
+  auto add = [&](PartId p, Eigen::Vector3d d, bool axis) {
+    d.normalize();
+    for (Way& w : ways[p])
+      if (w.out.dot(d) > 1.0 - 1e-9) {
+        w.axis = w.axis || axis;
+        return;
+      }
+    ways[p].push_back({d, axis});
+  };
+  std::vector<std::pair<PartId, PartId>> pairs;
+  for (const Constraint& c : assembly.constraints) {
+    const PartId partner = c.partner.value_or(base);
+    if (c.part >= n || partner >= n || c.part == partner) continue;
+    const Eigen::Vector3d d = home[partner].linear() * c.homeDirection;
+    const bool axis = c.type == Constraint::Type::Insert;
+    add(c.part, d, axis);
+    if (partner != base) add(partner, -d, axis);
+    if (axis) {
+      add(c.part, -d, true);
+      if (partner != base) add(partner, d, true);
+    }
+    if (partner != base) pairs.emplace_back(std::min(c.part, partner), std::max(c.part, partner));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  if (pairs.empty()) return out;
+
+  Assembly together = assembly;
+  for (PartId p = 0; p < n; ++p) together.parts[p].pose = home[p];
+  const collision::CollisionWorld world(together);
+  Eigen::AlignedBox3d all;
+  for (PartId p = 0; p < n; ++p) all.extend(world.worldBounds(ObjectId::part(p)));
+  Sweep sweep{world, home, {}};
+  sweep.toi.tolerance = options.tolerance;
+  sweep.toi.maxStep = options.maxStep;
+  const auto whole = [&](PartId p, const Eigen::Vector3d& d) {
+    return along(all, d).second - along(world.worldBounds(ObjectId::part(p)), d).first + 2.0 * options.tolerance;
+  };
+  // Per part and way: does the base block it (computed once per part).
+  std::vector<std::vector<int>> baseBlocks(n);
+  const auto openWays = [&](PartId p) {
+    if (baseBlocks[p].empty())
+      for (const Way& w : ways[p]) baseBlocks[p].push_back(sweep.block(p, base, w.out, w.axis, whole(p, w.out)) ? 1 : 0);
+    std::vector<std::size_t> open;
+    for (std::size_t k = 0; k < ways[p].size(); ++k)
+      if (!baseBlocks[p][k]) open.push_back(k);
+    // Held in by the base every way: all its ways count, since the pair decides nothing better.
+    if (open.empty())
+      for (std::size_t k = 0; k < ways[p].size(); ++k) open.push_back(k);
+    return open;
+  };
+  // True when every way `p` has past the base is blocked by `q` in place: p must come before q.
+  const auto needsAbsent = [&](PartId p, PartId q) {
+    const std::vector<std::size_t> open = openWays(p);
+    if (open.empty()) return false;
+    for (const std::size_t k : open)
+      if (!sweep.block(p, q, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out))) return false;
+    return true;
+  };
+  for (const auto& [x, y] : pairs) {
+    if (x == base || y == base) continue;
+    const bool xFirst = needsAbsent(x, y), yFirst = needsAbsent(y, x);
+    if (xFirst != yFirst) out.emplace_back(xFirst ? x : y, xFirst ? y : x);
+  }
+  if (sweeps) *sweeps = sweep.runs;
+  return out;
+}
 
 std::string travelText(const Eigen::Vector3d& out) {
   const Eigen::Vector3d in = -out;
@@ -109,9 +218,9 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
   for (PartId p = 0; p < n; ++p)
     if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));
 
-  collision::ToiOptions toi;
-  toi.tolerance = options.tolerance;
-  toi.maxStep = options.maxStep;
+  Sweep sweep{world, home, {}};
+  sweep.toi.tolerance = options.tolerance;
+  sweep.toi.maxStep = options.maxStep;
   for (PartId p = 0; p < n; ++p) {
     if (p == base || !inSequence[p]) continue;
     if (progress && !progress(static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
@@ -128,21 +237,16 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
       swept.extend(box.min() + length * d.out).extend(box.max() + length * d.out);
       for (const ObjectId& o : world.near(swept, mover)) {
         if (o.kind != ObjectId::Kind::Part || !inSequence[o.index]) continue;
-        // Only as far as this part can be met: until the trailing side passes its leading side.
-        const double reach = along(world.worldBounds(o), d.out).second - along(box, d.out).first + 2.0 * options.tolerance;
-        if (reach <= 0.0) continue;
-        const collision::MotionEvent ev =
-            collision::firstBlockBy(world, mover, o, collision::translation(home[p], d.out, std::min(reach, length)),
-                                    d.alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
-        ++plan.sweeps;
-        plan.evaluations += ev.evaluations;
-        if (ev.kind == collision::EventKind::Blocked) d.blockers.push_back({o.index, ev.initiallyBlocked ? 0.0 : ev.s});
+        if (const auto b = sweep.block(p, o.index, d.out, d.alongAxis, length)) d.blockers.push_back(*b);
       }
       std::sort(d.blockers.begin(), d.blockers.end(),
                 [](const Blocker& x, const Blocker& y) { return x.distance != y.distance ? x.distance < y.distance : x.by < y.by; });
     }
     plan.checks.push_back(std::move(check));
   }
+  plan.sweeps = sweep.runs;
+  plan.evaluations = sweep.evaluations;
+  plan.undecided = sweep.undecided;
 
   // Partners: every part a part is constrained to must be in place before it.
   std::vector<std::set<PartId>> partners(n);

@@ -67,6 +67,9 @@ struct MotionEvent {
   double distance = 0.0;          // m, gap left at s (Contact)
   int evaluations = 0;            // checks or distance queries run
   bool initiallyBlocked = false;  // the event held already at s0
+  // firstBlockBy: the iteration limit ran out at `s` before the motion's end, so nothing is known past it
+  // (kind None; never to be read as free).
+  bool undecided = false;
 };
 
 // Free flight: the first contact of `mover` with anything along the motion (NOCARE), by conservative

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "vaw/assembly.hpp"
@@ -20,6 +21,9 @@ struct Blocker {
   PartId by = 0;
   // m travelled out from home before the part meets it; 0 when the two interfere at their final poses.
   double distance = 0.0;
+  // The sweep ran out of its iteration limit at `distance` without deciding: counted as in the way, since
+  // a way not known to be free is no way home.
+  bool undecided = false;
 };
 
 // One way home: the part comes in along -out.
@@ -64,6 +68,7 @@ struct SequencePlan {
   std::vector<Stuck> stuck;             // no order inserts these
   std::vector<PartId> skipped;          // parts without a final pose: not in the sequence
   int sweeps = 0;                       // pair sweeps run
+  int undecided = 0;                    // of them, those that ran out of their iteration limit
   int evaluations = 0;                  // distance and blocked checks in them
   [[nodiscard]] bool complete() const { return stuck.empty(); }
   // The direction a part in the order came home by, or nullptr.
@@ -79,6 +84,17 @@ struct SequenceOptions {
 // How a part travels home along a way out `out`, for people: "down", "up", "along +x", or the components
 // "along (0.707, 0.000, -0.707)".
 std::string travelText(const Eigen::Vector3d& out);
+
+// Which of two constrained parts goes first, from how they can move (a non-directional blocking graph
+// in the sense of Wilson and Latombe, restricted to the constraints' ways): for every pair of parts that
+// share a constraint (the base aside), each part's ways out (every constraint's direction it is in, off a
+// mate's plane and along an insert's axis both ways) are swept against the other part and the base at
+// `home` (the parts' assembled poses, by PartId). A part all of whose ways the base leaves open are
+// blocked by the other needs the other absent, so it goes first: the bracket before the bolt whose head
+// clamps it. Returns (first, second) for the pairs the geometry decides; a pair where neither or each
+// blocks the other is left out (the caller's rule decides). `sweeps` counts the pair sweeps run.
+std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
+                                                           const SequenceOptions& options = {}, int* sweeps = nullptr);
 
 // Throws vaw::Error when the assembly has no base. `progress` (may be empty) is asked between parts;
 // returning false stops with LoadCancelled.
