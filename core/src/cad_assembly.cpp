@@ -6,15 +6,18 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 
 #include "collision/geometry2d.hpp"
 #include "vaw/collision/surface_patches.hpp"
 #include "load_detail.hpp"
+#include "vaw/cad_faces.hpp"
 #include "vaw/categories.hpp"
 #include "vaw/hash.hpp"
 #include "vaw/constraint_recognition.hpp"
+#include "vaw/evaluation/sequence.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/scene_loader.hpp"
 
@@ -34,12 +37,25 @@ void checkCancel(const ProgressFn& progress, double f, const std::string& stage)
   if (progress && !progress(std::clamp(f, 0.0, 1.0), stage)) throw LoadCancelled();
 }
 
-// Walks the file's tree: sub-assemblies become groups, solid instances parts (in file order).
-TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vector<Instance>& out, std::set<std::string>& names) {
+// A name a geometry kernel made up for an unnamed label ("=>[0:1:1:7]", "0:1:1:7"), not a person.
+bool kernelName(const std::string& name) {
+  std::string s = name;
+  if (s.rfind("=>", 0) == 0) s = s.substr(2);
+  if (s.size() >= 2 && s.front() == '[' && s.back() == ']') s = s.substr(1, s.size() - 2);
+  if (s.empty()) return !name.empty();
+  return s.find_first_not_of("0123456789:") == std::string::npos && s.find(':') != std::string::npos;
+}
+
+// Walks the file's tree: sub-assemblies become groups, solid instances parts (in file order). A part is
+// named by its instance, else its product, else the nearest named ancestor (`ancestor`).
+TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vector<Instance>& out, std::set<std::string>& names,
+              const std::string& ancestor = {}) {
   const Eigen::Isometry3d pose = parent * n.location;
+  const std::string own = kernelName(n.name) ? std::string() : n.name;
   TreeNode t;
   if (n.solid) {
-    std::string name = n.name.empty() ? n.solid->product : n.name;
+    std::string name = !own.empty() ? own : !kernelName(n.solid->product) ? n.solid->product : std::string();
+    if (name.empty()) name = ancestor;
     if (name.empty()) name = "part";
     // Part names identify parts in scenes and sessions, so repeated instance names get a number.
     if (!names.insert(name).second) {
@@ -54,9 +70,9 @@ TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vecto
     return t;
   }
   t.kind = TreeNode::Kind::Group;
-  t.name = n.name;
+  t.name = own;
   for (const auto& c : n.children) {
-    TreeNode child = walk(c, pose, out, names);
+    TreeNode child = walk(c, pose, out, names, own.empty() ? ancestor : own);
     if (child.kind == TreeNode::Kind::Part || !child.children.empty()) t.children.push_back(std::move(child));
   }
   return t;
@@ -64,24 +80,104 @@ TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vecto
 
 }  // namespace
 
+namespace {
+
+// Height of the centre of mass over the table and whether it lies over the support, in orientation R.
+std::pair<bool, double> restOn(const TriMesh& mesh, const Eigen::Vector3d& com, const Eigen::Matrix3d& R) {
+  const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
+  double low = std::numeric_limits<double>::infinity();
+  for (const auto& v : mesh.vertices) low = std::min(low, (R * v).z());
+  std::vector<g2::P> support;
+  for (const auto& v : mesh.vertices) {
+    const Eigen::Vector3d w = R * v;
+    if (w.z() <= low + 1e-6 * size) support.emplace_back(w.x(), w.y());
+  }
+  const std::vector<g2::P> hull = g2::convexHull(support);
+  const Eigen::Vector3d c = R * com;
+  // Stable: the centre of mass above the support polygon, a little inside its edge.
+  const bool stable = hull.size() >= 3 && g2::signedDistanceConvex({c.x(), c.y()}, hull) > 1e-4 * size;
+  return std::pair{stable, c.z() - low};
+}
+
+// The file's axis named by "+x", "-y", ...; none for anything else.
+std::optional<Eigen::Vector3d> namedAxis(const std::string& text) {
+  if (text.size() != 2 || (text[0] != '+' && text[0] != '-')) return std::nullopt;
+  const double sign = text[0] == '+' ? 1.0 : -1.0;
+  switch (text[1]) {
+    case 'x': return Eigen::Vector3d(sign, 0, 0);
+    case 'y': return Eigen::Vector3d(0, sign, 0);
+    case 'z': return Eigen::Vector3d(0, 0, sign);
+    default: return std::nullopt;
+  }
+}
+
+// The turn that makes `from` (unit) point along `to` (unit); about x when they are opposite, so that "-z"
+// turns the file over about its own x axis rather than about some axis Eigen happens to pick.
+Eigen::Matrix3d turnOnto(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+  if (from.dot(to) < -1.0 + 1e-12) {
+    const Eigen::Vector3d axis = std::abs(from.x()) < 0.9 ? from.cross(Eigen::Vector3d::UnitX()).normalized()
+                                                          : from.cross(Eigen::Vector3d::UnitY()).normalized();
+    return Eigen::AngleAxisd(std::numbers::pi, axis).toRotationMatrix();
+  }
+  return Eigen::Quaterniond::FromTwoVectors(from, to).toRotationMatrix();
+}
+
+}  // namespace
+
+bool validUpChoice(const std::string& up) { return up == "auto" || namedAxis(up).has_value(); }
+
+Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,
+                           const std::string& up) {
+  if (const auto axis = namedAxis(up)) return turnOnto(*axis, Eigen::Vector3d::UnitZ());
+  const Eigen::Matrix3d L = basePose.linear();
+  const TriMesh& mesh = *base.mesh;
+  const Eigen::Vector3d& com = base.mass.centerOfMass;
+  const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
+  // Candidate faces down, in the base's own frame: its planar faces (largest first), then its principal axes.
+  std::vector<Eigen::Vector3d> downs;
+  if (base.cad) {
+    std::vector<const CadFace*> planes;
+    for (const auto& f : base.cad->faces)
+      if (f.surface == CadFace::Surface::Plane) planes.push_back(&f);
+    std::stable_sort(planes.begin(), planes.end(), [](const CadFace* a, const CadFace* b) { return a->area > b->area; });
+    for (const CadFace* f : planes) downs.push_back(f->direction.normalized());
+  }
+  for (int k = 0; k < 3; ++k) {
+    downs.push_back(base.principal.axes.col(k));
+    downs.push_back(-base.principal.axes.col(k));
+  }
+  // The rest of the assembly stands on the base: of two faces equally low (a plate's top and bottom), the
+  // one facing away from the other parts goes down.
+  const Eigen::Vector3d towardsRest = L.transpose() * (assemblyCentre - basePose * com);
+  const auto rest = [&](const Eigen::Vector3d& down) {
+    return restOn(mesh, com, Eigen::Quaterniond::FromTwoVectors(down, -Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  };
+  std::optional<Eigen::Vector3d> best;
+  double bestHeight = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector3d& d : downs) {
+    if (!d.allFinite() || d.norm() < 0.5) continue;
+    const auto [stable, height] = rest(d);
+    if (!stable) continue;
+    const bool lower = height < bestHeight - 1e-3 * size;
+    const bool tie = !lower && height <= bestHeight + 1e-3 * size;
+    if (lower || (tie && best && d.dot(towardsRest) < best->dot(towardsRest) - 1e-9)) {
+      best = d;
+      bestHeight = std::min(bestHeight, height);
+    }
+  }
+  if (!best) return Eigen::Matrix3d::Identity();
+  // The file's own orientation stands when it is as low and the rest of the assembly is not below the base.
+  const Eigen::Vector3d fileDown = L.transpose() * -Eigen::Vector3d::UnitZ();
+  const auto [stableAsIs, heightAsIs] = restOn(mesh, com, L);
+  if (stableAsIs && heightAsIs <= bestHeight + 0.01 * size && fileDown.dot(towardsRest) <= best->dot(towardsRest) + 1e-9)
+    return Eigen::Matrix3d::Identity();
+  return turnOnto((L * *best).normalized(), -Eigen::Vector3d::UnitZ());
+}
+
 Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& com, const Principal& principal, const CadSolid* solid,
                                    const std::optional<Eigen::Matrix3d>& preferred) {
   const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
-  // Height of the centre of mass over the table and whether it lies over the support, in orientation R.
-  const auto rest = [&](const Eigen::Matrix3d& R) {
-    double low = std::numeric_limits<double>::infinity();
-    for (const auto& v : mesh.vertices) low = std::min(low, (R * v).z());
-    std::vector<g2::P> support;
-    for (const auto& v : mesh.vertices) {
-      const Eigen::Vector3d w = R * v;
-      if (w.z() <= low + 1e-6 * size) support.emplace_back(w.x(), w.y());
-    }
-    const std::vector<g2::P> hull = g2::convexHull(support);
-    const Eigen::Vector3d c = R * com;
-    // Stable: the centre of mass above the support polygon, a little inside its edge.
-    const bool stable = hull.size() >= 3 && g2::signedDistanceConvex({c.x(), c.y()}, hull) > 1e-4 * size;
-    return std::pair{stable, c.z() - low};
-  };
+  const auto rest = [&](const Eigen::Matrix3d& R) { return restOn(mesh, com, R); };
   if (preferred && rest(*preferred).first) return *preferred;
   std::vector<Eigen::Vector3d> downs;
   if (solid) {
@@ -194,6 +290,8 @@ std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std:
   for (std::size_t t = 0; t < taken.size(); ++t)
     if (!taken[t]) rest.push_back(static_cast<int>(t));
   addFace(CadFace{}, rest);
+  // A cylinder or plane interrupted (by a groove, a slot, a split in the file) is found as several patches.
+  mergeSplitFaces(*solid);
   return solid;
 }
 
@@ -321,17 +419,41 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     filePoses.push_back(p.pose);
     rec.push_back({p.cad, p.pose});
   }
-  a.constraints = constraintsFromFound(recognizeConstraints(rec), a.parts, base, filePoses);
+  const std::vector<FoundConstraint> found = recognizeConstraints(rec);
+  a.constraints = constraintsFromFound(found, a.parts, base, filePoses);
+  // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
+  // the pairs the geometry leaves open.
+  checkCancel(progress, 0.75, "which part goes first");
+  if (const auto first = eval::geometricPrecedence(a, filePoses); !first.empty())
+    a.constraints = constraintsFromFound(found, a.parts, base, filePoses, {}, first);
   // Parts come home along their constraints and are PLACED where they come to rest there.
   a.settings.placeAtRest = true;
 
   checkCancel(progress, 0.85, "laying the parts out on the table");
-  // The base keeps the file's orientation and stands on the table with its footprint centred at the origin;
-  // every final pose keeps its place relative to the base.
-  Eigen::AlignedBox3d baseBox;
-  for (const auto& v : a.parts[base].mesh->vertices) baseBox.extend(filePoses[base] * v);
+  // The base stands on its most stable face (or the way the user chose) with its footprint centred at the
+  // origin; the whole assembly turns with it, so every final pose keeps its place relative to the base.
+  a.cadUp = options.cadUp.value_or("auto");
+  if (!validUpChoice(a.cadUp)) fail(fileStr, "up", "\"auto\" or a file axis: +x, -x, +y, -y, +z, -z", "\"" + a.cadUp + "\"");
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double total = 0.0;
+  for (PartId id = 0; id < a.parts.size(); ++id) {
+    centre += a.parts[id].mass.mass * (filePoses[id] * a.parts[id].mass.centerOfMass);
+    total += a.parts[id].mass.mass;
+  }
+  if (total > 0.0) centre /= total;
+  const Eigen::Matrix3d turn = assemblyUp(a.parts[base], filePoses[base], centre, a.cadUp);
+  a.cadUpAxis = (turn.transpose() * Eigen::Vector3d::UnitZ()).normalized();
   Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
-  shift.translation() = -Eigen::Vector3d(baseBox.center().x(), baseBox.center().y(), baseBox.min().z());
+  shift.linear() = turn;
+  Eigen::AlignedBox3d baseBox;
+  for (const auto& v : a.parts[base].mesh->vertices) baseBox.extend(shift * filePoses[base] * v);
+  // The assembly as built stands on the table: a bolt's end and its nut under the plate hold the base up
+  // by their length, so that they can be put in place under it (the base is held, not resting).
+  double lowest = baseBox.min().z();
+  for (PartId id = 0; id < a.parts.size(); ++id)
+    for (const auto& v : a.parts[id].mesh->vertices) lowest = std::min(lowest, (shift * filePoses[id] * v).z());
+  shift.pretranslate(-Eigen::Vector3d(baseBox.center().x(), baseBox.center().y(), lowest));
+  baseBox.translate(-Eigen::Vector3d(baseBox.center().x(), baseBox.center().y(), lowest));
   for (PartId id = 0; id < a.parts.size(); ++id) a.parts[id].finalPose = shift * filePoses[id];
   a.parts[base].pose = shift * filePoses[base];
   a.parts[base].finalPose.reset();

@@ -190,7 +190,7 @@ class SceneReader {
     if (auto d = root.opt("description")) (void)d->string();
     const Node cad = root.get("cad");
     cad.requireObject();
-    cad.allowOnly({"file", "hash", "base", "units"});
+    cad.allowOnly({"file", "hash", "base", "units", "up"});
     const Node fileNode = cad.get("file");
     const std::filesystem::path cadFile = dir_ / fileNode.string();
     if (const std::string problem = fileProblem(cadFile); !problem.empty())
@@ -201,6 +201,10 @@ class SceneReader {
     LoadOptions opts = options_;
     // A base chosen by the caller (re-basing a saved scene) wins over the one the scene saved.
     if (auto b = cad.opt("base"); b && !options_.cadBase) opts.cadBase = b->string();
+    if (auto u = cad.opt("up"); u && !options_.cadUp) {
+      if (!validUpChoice(u->string())) u->fail("\"auto\" or a file axis: \"+x\", \"-x\", \"+y\", \"-y\", \"+z\", \"-z\"");
+      opts.cadUp = u->string();
+    }
     // The unit assumed for a mesh file, which declares none.
     if (auto u = cad.opt("units")) {
       const auto unit = parseLengthUnit(u->string());

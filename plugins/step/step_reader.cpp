@@ -380,6 +380,27 @@ std::string labelName(const TDF_Label& label) {
   return TCollection_AsciiString(name->Get()).ToCString();
 }
 
+// Open CASCADE names an unnamed component after the label it refers to ("=>[0:1:1:7]") and some files
+// carry such entries, or bare ones ("0:1:1:7"), as names: they say nothing to a person.
+bool kernelName(const std::string& name) {
+  std::string s = name;
+  if (s.rfind("=>", 0) == 0) s = s.substr(2);
+  if (s.size() >= 2 && s.front() == '[' && s.back() == ']') s = s.substr(1, s.size() - 2);
+  if (s.empty()) return !name.empty();
+  return s.find_first_not_of("0123456789:") == std::string::npos && s.find(':') != std::string::npos;
+}
+
+// A label's own name, else its nearest ancestor's that is a real name (a product with several
+// representations keeps its name on the product, not on the shape), up to the shapes' root.
+std::string productName(TDF_Label label) {
+  for (int depth = 0; !label.IsNull() && depth < 4; ++depth, label = label.Father()) {
+    const std::string name = labelName(label);
+    if (!name.empty() && !kernelName(name)) return name;
+    if (label.Depth() <= 3) break;  // 0:1:1 is the shapes' root, named by nothing in the file
+  }
+  return {};
+}
+
 std::string entry(const TDF_Label& label) {
   TCollection_AsciiString e;
   TDF_Tool::Entry(label, e);
@@ -497,8 +518,8 @@ class Reader {
   Node collect(const TDF_Label& label, const std::string& instanceName, const TopLoc_Location& location,
                const std::optional<Quantity_Color>& color, int depth) {
     Node node;
-    const std::string productName = labelName(label);
-    node.name = instanceName.empty() ? productName : instanceName;
+    const std::string product = productName(label);
+    node.name = instanceName.empty() || kernelName(instanceName) ? product : instanceName;
     node.location = location;
     node.color = color;
     if (depth > 200) {
@@ -518,7 +539,7 @@ class Reader {
     }
     const std::string key = entry(label);
     auto [it, inserted] = productIndex_.emplace(key, static_cast<int>(products_.size()));
-    if (inserted) products_.push_back(Product{label, productName.empty() ? node.name : productName, nullptr});
+    if (inserted) products_.push_back(Product{label, product.empty() ? node.name : product, nullptr});
     node.product = it->second;
     return node;
   }

@@ -143,6 +143,10 @@ struct Assembly {
   // (docs/scene-format.md, "cad"). `source` is then the CAD file itself or the scene that refers to it.
   std::filesystem::path cadFile;
   std::string cadHash;
+  // How a CAD assembly stands on the table (docs/step.md, "Which way is up"): the choice ("auto" or a file
+  // axis such as "+y") and the file's direction that points up as a result.
+  std::string cadUp = "auto";
+  Eigen::Vector3d cadUpAxis = Eigen::Vector3d::UnitZ();
   LengthUnit units = LengthUnit::Metre;
   std::map<std::string, Material> materials;
   std::vector<Part> parts;

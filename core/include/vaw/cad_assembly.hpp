@@ -41,6 +41,17 @@ std::string fileContentHash(const std::filesystem::path& file);
 Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& centerOfMass, const Principal& principal,
                                    const CadSolid* solid, const std::optional<Eigen::Matrix3d>& preferred = std::nullopt);
 
+// Which way a CAD assembly stands (docs/step.md, "Which way is up"): the turn applied to the file's frame.
+// `up` "auto": the base rests on its most stable face (of its largest planar faces and principal axes, the
+// stable one under which its centre of mass lies lowest; of two equally low, the one facing away from
+// `assemblyCentre`, the assembly's centre of mass in the file, so the rest stands on the base), unless the
+// file's own orientation is as good; a file axis ("+x", "-x", "+y", "-y", "+z", "-z"): that axis of the
+// file points up. `basePose` is the base's pose in the file.
+Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,
+                           const std::string& up);
+// True for "auto" and the six file axes.
+bool validUpChoice(const std::string& up);
+
 // Poses for the parts other than `base` (whose pose is kept) side by side on the table top (z = tableTop)
 // in rows beside the base, none overlapping, `gap` apart. `orientations` are the resting orientations.
 std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, PartId base,

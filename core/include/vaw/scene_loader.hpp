@@ -21,6 +21,9 @@ struct LoadOptions {
   ImportOptions import;
   // The base of a CAD assembly, by part name; empty: the heaviest part.
   std::optional<std::string> cadBase;
+  // Which way a CAD assembly stands: "auto" (the base on its most stable face) or the file's axis that
+  // points up ("+y", ...); empty: what the scene saved, else "auto".
+  std::optional<std::string> cadUp;
 };
 
 // Version 2 adds "tools", version 3 "cad" and constraints between parts ("partner"); earlier files still load.

@@ -86,6 +86,7 @@ void saveCadScene(const Assembly& loaded, const World& world, const std::filesys
   const std::filesystem::path rel = cad.lexically_relative(toDir);
   Ordered cadJson{{"file", rel.empty() ? cad.generic_string() : rel.generic_string()}, {"hash", loaded.cadHash}};
   if (loaded.base) cadJson["base"] = loaded.parts[*loaded.base].name;
+  if (loaded.cadUp != "auto") cadJson["up"] = loaded.cadUp;
   // A mesh file declares no unit: the one assumed when it was opened goes with it.
   if (!loaded.parts.empty() && loaded.parts.front().massSource == MassSource::Mesh) cadJson["units"] = std::string(name(loaded.units));
   Ordered constraints = Ordered::array();
