@@ -9,6 +9,9 @@ struct EvaluateArgs {
   bool json = false;
   std::vector<std::string> sessions;  // recorded sessions of this assembly (participants)
   std::string report;                 // folder for report.html and its CSV and JSON
+  std::string up;                     // CAD files: which way the assembly stands ("auto", "+y", ...)
 };
+// The exit status of `evaluate` when the assembly loaded and was searched but some part has no order.
+inline constexpr int kExitNoOrder = 3;
 int evaluate(const EvaluateArgs& args);
 }  // namespace vaw::app

@@ -97,13 +97,27 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
           {"constraints", a.constraints.size()},
           {"fits", fitList},
           {"triangles", a.totalTriangles()},
+          {"up", {{"choice", a.cadUp}, {"file_axis", {a.cadUpAxis.x(), a.cadUpAxis.y(), a.cadUpAxis.z()}}}},
           {"warnings", warnings}};
+}
+
+// "+y" for a file axis, else the components.
+std::string axisText(const Eigen::Vector3d& v) {
+  const char* names[] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(std::abs(v[i]) - 1.0) < 1e-9) return std::string(v[i] > 0 ? "+" : "-") + names[i];
+  char buf[80];
+  std::snprintf(buf, sizeof buf, "(%.3f, %.3f, %.3f)", v.x(), v.y(), v.z());
+  return buf;
 }
 
 void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
   std::printf("%s (%s): %zu parts, %zu environment objects, %zu constraints, %zu triangles; categories: %s\n",
               a.name.c_str(), a.source.string().c_str(), a.parts.size(), a.environment.size(), a.constraints.size(),
               a.totalTriangles(), a.categorySettings.preset.c_str());
+  if (!a.cadFile.empty())
+    std::printf("stands with the file's %s up (%s)\n", axisText(a.cadUpAxis).c_str(),
+                a.cadUp == "auto" ? "auto: the base on its most stable face" : ("chosen: " + a.cadUp).c_str());
   std::printf("%-18s %10s %12s %26s %32s %-11s %s\n", "part", "mass kg", "volume cm^3", "centre of mass mm",
               "principal moments kg m^2", "category", "why");
   for (const auto& p : a.parts) {
@@ -134,16 +148,19 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
   for (const auto& w : a.warnings) std::printf("warning: %s\n", w.message().c_str());
 }
 
+
 struct InspectArgs {
   std::string file;
   bool json = false;
   std::string categories = "default";
   double deflection = vaw::ImportOptions{}.relativeDeflection;
+  std::string up;
 };
 
 int inspect(const InspectArgs& args) {
   vaw::LoadOptions options;
   options.import.relativeDeflection = args.deflection;
+  if (!args.up.empty()) options.cadUp = args.up;
   if (!vaw::CategorySettings::byName(args.categories, options.categories)) return 2;  // the parser allows known names only
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
@@ -204,7 +221,8 @@ int dispatch(int argc, char** argv) {
                "vaw-sim"};
   app.set_version_flag("--version", std::string("vaw-sim ") + vaw::kVersion, "Print the version and exit");
   app.require_subcommand(1);
-  app.footer("Exit status: 0 ok, 1 bad input or output (the message names file, field and expectation), 2 usage.\n"
+  app.footer("Exit status: 0 ok, 1 bad input or output (the message names file, field and expectation), 2 usage,\n"
+             "3 (evaluate) some part can be put in place by no order.\n"
              "Each command's options: vaw-sim COMMAND --help.");
   std::function<int()> command;
 
@@ -221,6 +239,9 @@ int dispatch(int argc, char** argv) {
       ->add_option("--deflection", ins.deflection,
                    "STEP files: the tessellation's chordal deflection as a fraction of each part's size (default 0.001)")
       ->check(CLI::Range(1e-5, 0.1));
+  inspectCmd->add_option("--up", ins.up, "CAD files: which way the assembly stands: auto (the base on its most stable face, "
+                                         "the default) or the file's axis that points up: +x, -x, +y, -y, +z, -z")
+      ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
   inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
 
   bool dot = false;
@@ -260,6 +281,8 @@ int dispatch(int argc, char** argv) {
       ->type_name("SESSION")->expected(1, -1);
   evCmd->add_option("--report", ev.report, "Write DIR/report.html with parts.csv, sequence.csv, sessions.csv and evaluation.json")
       ->type_name("DIR");
+  evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default) or the file's axis that points up")
+      ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 
   vaw::app::WorkPrecisionArgs wp;
