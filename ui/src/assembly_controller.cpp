@@ -123,6 +123,11 @@ void AssemblyController::openWithBase(const QString& path, const std::string& ba
   open(path);
 }
 
+void AssemblyController::openWithUp(const QString& path, const std::string& up) {
+  chosenUp_ = ChosenBase{QFileInfo(path).absoluteFilePath(), up};
+  open(path);
+}
+
 bool AssemblyController::setConstraints(std::vector<vaw::Constraint> constraints, const vaw::sim::World* keepTuningOf,
                                         QString* why) {
   if (!scene_) return false;
@@ -168,6 +173,8 @@ void AssemblyController::start(const QString& path) {
   vaw::LoadOptions options = options_;
   if (chosenBase_ && chosenBase_->path == QFileInfo(path).absoluteFilePath()) options.cadBase = chosenBase_->base;
   else chosenBase_.reset();
+  if (chosenUp_ && chosenUp_->path == QFileInfo(path).absoluteFilePath()) options.cadUp = chosenUp_->base;
+  else chosenUp_.reset();
   watcher_.setFuture(QtConcurrent::run([this, path, loader = loader_, options, cancel] {
     return runLoad(path, loader, options, cancel);
   }));

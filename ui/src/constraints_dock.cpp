@@ -6,6 +6,7 @@
 #include <QItemSelectionModel>
 #include <QLabel>
 #include <QMainWindow>
+#include <QActionGroup>
 #include <QMenu>
 #include <QPushButton>
 #include <QShortcut>
@@ -620,6 +621,29 @@ QMenu* ConstraintsDock::baseMenu(vaw::PartId part, QWidget* parent) {
   makeBase->setToolTip(tip);
   makeBase->setStatusTip(tip);
   connect(makeBase, &QAction::triggered, this, [this, name] { emit baseRequested(name); });
+  // Which way is up (docs/step.md): the automatic choice or one of the file's axes, the current one ticked.
+  if (!a->cadFile.empty()) {
+    QMenu* up = menu->addMenu(tr("Which way is up"));
+    up->setObjectName(QStringLiteral("upMenu"));
+    up->setToolTipsVisible(true);
+    auto* group = new QActionGroup(up);
+    const std::pair<const char*, QString> choices[] = {
+        {"auto", tr("Automatic: the base on its most stable face")},
+        {"+z", tr("The file's +Z up")}, {"-z", tr("The file's -Z up")}, {"+y", tr("The file's +Y up")},
+        {"-y", tr("The file's -Y up")}, {"+x", tr("The file's +X up")}, {"-x", tr("The file's -X up")}};
+    for (const auto& [key, text] : choices) {
+      QAction* act = up->addAction(text);
+      act->setObjectName(QStringLiteral("up") + QString::fromLatin1(key));
+      act->setCheckable(true);
+      act->setChecked(a->cadUp == key);
+      act->setActionGroup(group);
+      act->setToolTip(tr("Reopen the assembly standing this way; the constraints keep their parts"));
+      const QString choice = QString::fromLatin1(key);
+      connect(act, &QAction::triggered, this, [this, choice, current = str(a->cadUp)] {
+        if (choice != current) emit upRequested(choice);
+      });
+    }
+  }
   return menu;
 }
 

@@ -186,6 +186,9 @@ void MainWindow::wireConstraints() {
   connect(constraintsDock_, &ConstraintsDock::baseRequested, this, [this](const QString& part) {
     if (maybeSave()) controller_.openWithBase(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, part.toStdString());
   });
+  connect(constraintsDock_, &ConstraintsDock::upRequested, this, [this](const QString& up) {
+    if (maybeSave()) controller_.openWithUp(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, up.toStdString());
+  });
 }
 
 void MainWindow::wireSequence() {

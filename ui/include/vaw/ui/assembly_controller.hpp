@@ -89,6 +89,9 @@ class AssemblyController : public QObject {
   // Opens `path` with `base` as the base of its CAD assembly (vaw::LoadOptions::cadBase), and keeps that
   // base for File > Reload of the same file.
   void openWithBase(const QString& path, const std::string& base);
+  // Opens `path` standing the way `up` says (vaw::LoadOptions::cadUp: "auto" or a file axis such as "+y"),
+  // and keeps that choice for File > Reload of the same file; File > Save writes it into the scene.
+  void openWithUp(const QString& path, const std::string& up);
   [[nodiscard]] const vaw::LoadOptions& loadOptions() const { return options_; }
 
  public slots:
@@ -138,6 +141,7 @@ class AssemblyController : public QObject {
     std::string base;
   };
   std::optional<ChosenBase> chosenBase_;
+  std::optional<ChosenBase> chosenUp_;  // `base` holds the up choice
 };
 
 }  // namespace vaw::ui

@@ -103,6 +103,8 @@ class ConstraintsDock : public QDockWidget {
  signals:
   // The user asked to reopen the CAD assembly with `part` as its base.
   void baseRequested(const QString& part);
+  // The user chose which way the CAD assembly stands: "auto" or a file axis ("+y", ...).
+  void upRequested(const QString& up);
 
  private:
   void assemblyLoaded();
