@@ -2,9 +2,11 @@
 // assembled with the mouse in the order its constraints allow: a nut at its place before its stud is
 // refused with the reason in Messages; the studs go into the plate, the bracket over the studs, the nut
 // onto its stud against the bracket, each PLACED. Real mouse presses, moves and wheel turns in the 3D
-// view; any Qt warning fails the test; screenshots go to the build tree (tests/gui/step-*.png).
+// view; any Qt warning fails the test; screenshots go to the build tree (tests/gui/step-*.png). Then a
+// bolted assembly as CAD systems write it: a headed bolt through its bracket into the plate.
 #include <Qt3DExtras/Qt3DWindow>
 #include <Qt3DRender/QCamera>
+#include <QDir>
 #include <QDoubleSpinBox>
 #include <QInputDialog>
 #include <QMimeData>
@@ -18,6 +20,7 @@
 #include <memory>
 
 #include "gui_test_support.hpp"
+#include "step_fixtures.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
@@ -54,6 +57,7 @@ class TestStep : public QObject {
   void droppedStepFileOpensWithItsTreeAndBrepMass();
   void bracketIsAssembledWithTheMouseInOrder();
   void coarserTessellationIsChosenAndReadAgain();
+  void headedBoltGoesThroughItsBracketIntoThePlate();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -197,6 +201,39 @@ void TestStep::coarserTessellationIsChosenAndReadAgain() {
   // Back to the default for the other tests and runs (the choice is kept in the settings).
   window_->setStepDeflection(vaw::ImportOptions{}.relativeDeflection);
   QVERIFY(loaded.wait(60000));
+}
+
+// A bolted assembly as CAD systems write it (cylinders in quarters, B-spline faces; the fixture of
+// tests/step/test_real_exports.cpp): a bolt tried before its bracket is refused with the partner named; the
+// bracket on the plate, then the headed bolt through it into the plate slides home and is PLACED, held by
+// its head on the bracket.
+void TestStep::headedBoltGoesThroughItsBracketIntoThePlate() {
+  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-bolted-rod-%1.stp").arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeBoltedRod(file.toStdString(), {4, true, true, false, false, "AP214"});
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  controller_->open(file);
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QFile::remove(file);
+  QVERIFY(sim().hasWorld());
+  sim().setSpeed(1.0);
+  QCOMPARE(assembly().constraints.size(), std::size_t{38});
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+
+  // The bolt at its place before its bracket: the bracket is its partner, and is not placed.
+  carry("bolt-4", above("bolt-4", 3.0));
+  QTRY_VERIFY_WITH_TIMEOUT(messagesMention(QStringLiteral("its partner bracket-2 is not placed yet")), 3000);
+  QVERIFY(state("bolt-4") != PartState::Placed);
+
+  // The bracket onto the plate, then the bolt's tip into the bracket's hole: down through the bracket and
+  // the plate until its head lies on the bracket.
+  carry("bracket-1", above("bracket-1", 4.0));
+  QTRY_VERIFY2_WITH_TIMEOUT(state("bracket-1") == PartState::Placed, "bracket-1", 5000);
+  carry("bolt-1", above("bolt-1", 6.0));
+  QTRY_VERIFY2_WITH_TIMEOUT(state("bolt-1") == PartState::Placed, "bolt-1", 5000);
+  const Eigen::Isometry3d home = *assembly().parts[part("bolt-1")].finalPose;
+  QVERIFY2((world().part(part("bolt-1")).pose.translation() - home.translation()).norm() < 1e-4, "the bolt is home, its head on the bracket");
+  QTest::qWait(200);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-headed-bolt.png"));
 }
 
 QTEST_MAIN(TestStep)

@@ -14,6 +14,7 @@
 #include <Quantity_Color.hxx>
 #include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
+#include <ShapeUpgrade_ShapeDivideClosed.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <TDataStd_Name.hxx>
 #include <TDocStd_Document.hxx>
@@ -23,6 +24,8 @@
 #include <XCAFDoc_ColorTool.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <gp_Ax1.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Trsf.hxx>
 
@@ -90,6 +93,27 @@ TopoDS_Shape bracketShape() {
   return unify(s);
 }
 
+TopoDS_Shape cylinderAlong(const gp_Pnt& base, const gp_Dir& axis, double radius, double height) {
+  return BRepPrimAPI_MakeCylinder(gp_Ax2(base, axis), radius, height).Shape();
+}
+
+TopoDS_Shape fuse(const TopoDS_Shape& a, const TopoDS_Shape& b) {
+  BRepAlgoAPI_Fuse op(a, b);
+  if (!op.IsDone()) throw std::runtime_error("step fixtures: boolean fuse failed");
+  return op.Shape();
+}
+
+// Each closed face divided into `pieces` faces, as exporters that allow no seam write them.
+TopoDS_Shape divideClosed(const TopoDS_Shape& s, int pieces) {
+  if (pieces <= 1) return s;
+  ShapeUpgrade_ShapeDivideClosed divide(s);
+  divide.SetNbSplitPoints(pieces - 1);
+  if (!divide.Perform()) throw std::runtime_error("step fixtures: dividing closed faces failed");
+  return divide.Result();
+}
+
+TopLoc_Location placed(const gp_Trsf& t) { return TopLoc_Location(t); }
+
 struct Writer {
   Handle(TDocStd_Document) doc;
   Handle(XCAFDoc_ShapeTool) shapes;
@@ -115,7 +139,8 @@ struct Writer {
   }
   void instance(const TDF_Label& parent, const TDF_Label& product, const char* name, const TopLoc_Location& where) {
     const TDF_Label c = shapes->AddComponent(parent, product, where);
-    TDataStd_Name::Set(c, name);
+    // Without a name of its own a component keeps the one XCAF gives it, its product's label entry.
+    if (name != nullptr) TDataStd_Name::Set(c, name);
   }
   void write(const std::filesystem::path& file, const std::string& schema, bool inches) {
     shapes->UpdateAssemblies();
@@ -253,6 +278,70 @@ void writeCaptiveRing(const std::filesystem::path& file) {
   w.instance(root, w.product("ring", tube(5, 10, 10), {0.8, 0.65, 0.2}), "ring", at(30, 30, 10));
   w.instance(root, w.product("cap", cylinder(0, 0, 0, 12, 4), {0.2, 0.35, 0.8}), "cap", at(30, 30, 55));
   w.write(file, "AP214", false);
+}
+
+void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style) {
+  if (style.splits != 1 && style.splits != 2 && style.splits != 4)
+    throw std::invalid_argument("step fixtures: writeBoltedRod splits 1, 2 or 4");
+  Writer w;
+  w.bspline = style.bsplineFaces;
+  const auto real = [&](const TopoDS_Shape& shape) { return divideClosed(shape, style.splits); };
+  // Bolt positions (x, y) in the model: bracket 1's three, then bracket 2's (its flange turned 180 degrees).
+  const double bolts[6][2] = {{30, 38}, {30, 62}, {58, 50}, {170, 62}, {170, 38}, {142, 50}};
+  TopoDS_Shape plate = box(0, 0, 0, 200, 100, 10);
+  for (const auto& b : bolts) plate = cut(plate, cylinder(b[0], b[1], -1, 4.25, 12));
+  // Bracket frame: flange x -30..30, y -25..25, z 0..8; upright x 22..30 up to z 50 with the rod's bore
+  // (r 5.25 along x at z 30); flange holes at (-20, -12), (-20, 12), (8, 0).
+  TopoDS_Shape bracket = fuse(box(-30, -25, 0, 30, 25, 8), box(22, -25, 8, 30, 25, 50));
+  for (const auto& h : {std::pair{-20.0, -12.0}, std::pair{-20.0, 12.0}, std::pair{8.0, 0.0}})
+    bracket = cut(bracket, cylinder(h.first, h.second, -1, 4.25, 10));
+  bracket = cut(bracket, cylinderAlong(gp_Pnt(20, 0, 30), gp_Dir(1, 0, 0), 5.25, 12));
+  // Bolt frame: shank r 4 z 0..30, head r 6.5 z 30..35.5.
+  const TopoDS_Shape bolt = unify(fuse(cylinder(0, 0, 0, 4, 30), cylinder(0, 0, 30, 6.5, 5.5)));
+  const TopoDS_Shape nut = tube(4, 7, 8);
+  const TopoDS_Shape rod = cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 5, 80);
+  const TopoDS_Shape rodNut = unify(cut(cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 8, 8),
+                                        cylinderAlong(gp_Pnt(-1, 0, 0), gp_Dir(1, 0, 0), 5, 10)));
+
+  const TDF_Label root = w.assembly("BOLTED-ROD");
+  // The plate's own frame at its centre, so that its instance has a placement (and keeps its name).
+  gp_Trsf centre;
+  centre.SetTranslation(gp_Vec(-100, -50, 0));
+  plate = BRepBuilderAPI_Transform(unify(plate), centre, true).Shape();
+  const TDF_Label plateL = w.product("PLATE", real(plate), {0.6, 0.6, 0.62});
+  const TDF_Label bracketL = w.product("L-BRACKET", real(unify(bracket)), {0.2, 0.35, 0.8});
+  const TDF_Label boltL = w.product("BOLT", real(bolt), {0.75, 0.75, 0.7});
+  const TDF_Label nutL = w.product("NUT", real(nut), {0.8, 0.65, 0.2});
+  const TDF_Label rodL = w.product("ROD", real(rod), {0.7, 0.7, 0.75});
+  const TDF_Label rodNutL = w.product("ROD-NUT", real(rodNut), {0.8, 0.65, 0.2});
+
+  // The model's frame written as the file's: Z up, or Y up (model +Z along file +Y: a turn of -90 degrees
+  // about x).
+  gp_Trsf toFile;
+  if (style.yUp) toFile.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), -M_PI / 2);
+  const auto at3 = [&](double x, double y, double z, double turnZ = 0.0) {
+    gp_Trsf t;
+    t.SetTranslation(gp_Vec(x, y, z));
+    if (turnZ != 0.0) {
+      gp_Trsf r;
+      r.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), turnZ);
+      t = t * r;
+    }
+    return placed(toFile * t);
+  };
+  const auto named = [&](const std::string& n) -> std::string { return style.namedInstances ? n : std::string(); };
+  const auto add = [&](const TDF_Label& product, const std::string& name, const TopLoc_Location& where) {
+    w.instance(root, product, name.empty() ? nullptr : name.c_str(), where);
+  };
+  add(plateL, named("plate"), at3(100, 50, 0));
+  add(bracketL, named("bracket-1"), at3(50, 50, 10));
+  add(bracketL, named("bracket-2"), at3(150, 50, 10, M_PI));
+  for (int k = 0; k < 6; ++k) add(boltL, named("bolt-" + std::to_string(k + 1)), at3(bolts[k][0], bolts[k][1], -12));
+  for (int k = 0; k < 6; ++k) add(nutL, named("nut-" + std::to_string(k + 1)), at3(bolts[k][0], bolts[k][1], -8));
+  add(rodL, named("rod"), at3(60, 50, 40));
+  add(rodNutL, named("rod-nut-1"), at3(64, 50, 40));
+  add(rodNutL, named("rod-nut-2"), at3(128, 50, 40));
+  w.write(file, style.schema, style.inches);
 }
 
 }  // namespace vaw::steptest

@@ -28,4 +28,26 @@ void writePegUnderCover(const std::filesystem::path& file);
 // end ("base", "ring", and a free "cap" on the flange).
 void writeCaptiveRing(const std::filesystem::path& file);
 
+// How CAD systems write what the clean fixtures above do not (docs/step.md, "Files as CAD systems write
+// them"): closed faces divided at seams, every face a B-spline, names only on the products (the
+// instances unnamed, so Open CASCADE calls them "=>[0:1:1:N]"), inches, a model built with Y up.
+struct ExportStyle {
+  int splits = 1;               // each closed face (cylinder) divided into this many faces: 1, 2 or 4
+  bool bsplineFaces = false;    // then every face written as a B-spline
+  bool namedInstances = true;   // false: the components carry no name of their own
+  bool yUp = false;             // the assembly modelled with +Y up (the model's +Z written as the file's +Y)
+  bool inches = false;
+  std::string schema = "AP214";
+};
+
+// A bolted rod assembly (mm, Z up before `yUp`): the base "PLATE" (200 x 100 x 10, six through holes
+// r 4.25 at z 0..10), two "L-BRACKET"s on it (the second turned 180 degrees), each held by three headed
+// "BOLT"s (shank r 4 from 12 mm below the plate to the flange's top at z 18, head r 6.5 above it) with a
+// "NUT" under the plate (r 4..7, z -8..0), and a "ROD" (r 5, x 60..140 at y 50, z 40) through both
+// brackets' uprights (bores r 5.25), a "ROD-NUT" (r 5..8, 8 long) against each upright's outer face.
+// Products are named as in quotes; with `namedInstances` the instances are "plate", "bracket-1/2",
+// "bolt-1".."bolt-6" (bracket 1's first), "nut-1".."nut-6" (under bolt k), "rod", "rod-nut-1/2". 22 inserts
+// and 16 mates in all (tests/step/step_fixtures.cpp has every coordinate).
+void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style = {});
+
 }  // namespace vaw::steptest

@@ -1,0 +1,33 @@
+// Writes one of the STEP test fixtures (tests/step/step_fixtures.hpp) to a file, so that command-line tests
+// and benchmarks run vaw-sim on the same geometry the unit tests build:
+//   vaw_write_step_fixture KIND OUTPUT.stp
+// KIND: captive-ring, bolted-rod (clean), bolted-rod-split4 (cylinders in quarters, B-spline faces) or
+// bolted-rod-proe (AP203 in inches, Y up, cylinders in halves, names on the products only).
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "step_fixtures.hpp"
+
+int main(int argc, char** argv) {
+  if (argc != 3) {
+    std::fprintf(stderr, "usage: vaw_write_step_fixture captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe OUTPUT.stp\n");
+    return 2;
+  }
+  const std::string kind = argv[1];
+  try {
+    using vaw::steptest::ExportStyle;
+    if (kind == "captive-ring") vaw::steptest::writeCaptiveRing(argv[2]);
+    else if (kind == "bolted-rod") vaw::steptest::writeBoltedRod(argv[2]);
+    else if (kind == "bolted-rod-split4") vaw::steptest::writeBoltedRod(argv[2], ExportStyle{4, true, true, false, false, "AP214"});
+    else if (kind == "bolted-rod-proe") vaw::steptest::writeBoltedRod(argv[2], ExportStyle{2, false, false, true, true, "AP203"});
+    else {
+      std::fprintf(stderr, "vaw_write_step_fixture: unknown kind \"%s\"\n", kind.c_str());
+      return 2;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "vaw_write_step_fixture: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
