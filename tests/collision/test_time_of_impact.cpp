@@ -228,6 +228,55 @@ TEST(FirstBlockBy, APegSlidesOutOfItsBoreButNotThroughItsBottom) {
   EXPECT_LT(wall.sEvent, 1e-3);
 }
 
+TEST(FirstBlockBy, OutOfIterationsBeforeTheEndIsUndecidedNotFree) {
+  // The cube 2 m before the wall, moved 3 m at it, with room for a single advance.
+  ctest::SceneBuilder b;
+  const PartId cube = b.part("cube", primitives::box({0.01, 0.01, 0.01}), at(0, 0, 0.5));
+  const PartId wall = b.part("wall", primitives::box({0.01, 0.1, 0.1}), at(2.01, 0, 0.5));
+  b.base(wall);
+  const CollisionWorld w(b.a);
+  ToiOptions few;
+  few.maxIterations = 1;
+  const MotionEvent ev = firstBlockBy(w, ObjectId::part(cube), ObjectId::part(wall),
+                                      translation(at(0, 0, 0.5), Eigen::Vector3d::UnitX(), 3.0), FilterMode::NoCare, few);
+  EXPECT_EQ(ev.kind, EventKind::None);
+  EXPECT_TRUE(ev.undecided);
+  EXPECT_NEAR(ev.s, 2.0, 1e-4) << "where it got to: up to the wall, no further";
+  // With its iterations it finds the wall.
+  EXPECT_EQ(firstBlockBy(w, ObjectId::part(cube), ObjectId::part(wall), translation(at(0, 0, 0.5), Eigen::Vector3d::UnitX(), 3.0),
+                         FilterMode::NoCare)
+                .kind,
+            EventKind::Blocked);
+}
+
+TEST(SweepDistance, WhatATranslationPassesAtAClearanceIsLeftOut) {
+  // A tube (bore r 4.5 mm, outside r 8 mm, 20 mm long) 20 mm over a plate, round a pin (r 4 mm) standing
+  // on the plate: moved down its axis the tube can meet the plate, never the pin.
+  ctest::SceneBuilder b;
+  const PartId plate = b.part("plate", primitives::box({0.08, 0.08, 0.01}), at(0, 0, -0.005));
+  const PartId pin = b.part("pin", primitives::cylinder(0.004, 0.05, 48), at(0, 0, 0.025));
+  const PartId tube = b.part("tube", primitives::tube(0.008, 0.0045, 0.02, 48), at(0, 0, 0.03));
+  b.base(plate);
+  const CollisionWorld w(b.a);
+  const Eigen::Isometry3d home = at(0, 0, 0.03);
+  const Eigen::Vector3d down = -Eigen::Vector3d::UnitZ();
+  EXPECT_LT(w.distance(ObjectId::part(tube), home, ObjectId::part(pin)), 0.0006) << "the pin is half a millimetre from the bore";
+  EXPECT_TRUE(std::isinf(w.sweepDistance(ObjectId::part(tube), home, ObjectId::part(pin), FilterMode::SkipCoaxial, down)))
+      << "down its axis the tube never meets the pin";
+  EXPECT_NEAR(w.sweepDistance(ObjectId::part(tube), home, ObjectId::part(plate), FilterMode::SkipCoaxial, down), 0.02, 1e-9);
+  // Sideways the pin is in the way, half a millimetre off (less the facets' sagitta).
+  const double side = w.sweepDistance(ObjectId::part(tube), home, ObjectId::part(pin), FilterMode::SkipCoaxial, Eigen::Vector3d::UnitX());
+  EXPECT_GT(side, 0.0004);
+  EXPECT_LT(side, 0.0006);
+  // So the way down its axis costs one distance query, and ends on the plate after 20 mm.
+  const MotionEvent pass = firstBlockBy(w, ObjectId::part(tube), ObjectId::part(pin), translation(home, down, 0.03), FilterMode::SkipCoaxial);
+  EXPECT_EQ(pass.kind, EventKind::None);
+  EXPECT_LE(pass.evaluations, 2);
+  const MotionEvent onPlate = firstBlockBy(w, ObjectId::part(tube), ObjectId::part(plate), translation(home, down, 0.03), FilterMode::SkipCoaxial);
+  ASSERT_EQ(onPlate.kind, EventKind::Blocked);
+  EXPECT_NEAR(onPlate.s, 0.02, 2e-5);
+}
+
 // ---- the order an assembly goes together in, on shapes made in code ----
 
 #include "vaw/evaluation/sequence.hpp"

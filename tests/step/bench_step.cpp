@@ -36,8 +36,20 @@ fs::path manyParts(bool distinct) {
   return f;
 }
 
-// 0: the bundled sample; 1: 100 parts, instances of 5 products; 2: 100 parts, each its own product.
-fs::path fileFor(int which) { return which == 0 ? sample() : manyParts(which == 2); }
+// The bolted rod as CAD systems write it (docs/step.md, "Files as CAD systems write them"): 18 parts with
+// headed bolts; `proE` AP203 in inches, Y up, cylinders in halves, else AP214 with every cylinder in
+// quarters as B-spline faces.
+fs::path boltedRod(bool proE) {
+  const fs::path f = fs::temp_directory_path() / (proE ? "vaw-bench-bolted-rod-proe.stp" : "vaw-bench-bolted-rod-split4.stp");
+  if (!fs::exists(f))
+    vaw::steptest::writeBoltedRod(f, proE ? vaw::steptest::ExportStyle{2, false, false, true, true, "AP203"}
+                                          : vaw::steptest::ExportStyle{4, true, true, false, false, "AP214"});
+  return f;
+}
+
+// 0: the bundled sample; 1: 100 parts, instances of 5 products; 2: 100 parts, each its own product;
+// 3: the bolted rod, split B-spline cylinders; 4: the bolted rod as Pro/ENGINEER writes it.
+fs::path fileFor(int which) { return which == 0 ? sample() : which <= 2 ? manyParts(which == 2) : boltedRod(which == 4); }
 
 void BM_StepReader(benchmark::State& state) {
   const fs::path file = fileFor(static_cast<int>(state.range(0)));
@@ -91,11 +103,24 @@ void BM_PlanSequence(benchmark::State& state) {
   state.counters["ordered"] = static_cast<double>(plan.order.size());
 }
 
+// Who goes first from the geometry (docs/step.md, "Who goes first"): part of every load, measured alone.
+void BM_GeometricPrecedence(benchmark::State& state) {
+  const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
+  std::vector<Eigen::Isometry3d> home;
+  for (const auto& p : a.parts) home.push_back(p.finalPose.value_or(p.pose));
+  int sweeps = 0;
+  std::size_t decided = 0;
+  for (auto _ : state) decided = vaw::eval::geometricPrecedence(a, home, {}, &sweeps).size();
+  state.counters["sweeps"] = sweeps;
+  state.counters["decided"] = static_cast<double>(decided);
+}
+
 }  // namespace
 
 BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

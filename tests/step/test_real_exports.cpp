@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <map>
+#include <ostream>
 #include <set>
 #include <string>
 
@@ -33,6 +34,8 @@ struct Variant {
 };
 
 std::string label(const ::testing::TestParamInfo<Variant>& info) { return info.param.label; }
+// Named in test lists by its label, not its bytes.
+void PrintTo(const Variant& v, std::ostream* os) { *os << v.label; }
 
 const Variant kVariants[] = {
     {"Clean", {}},

@@ -189,6 +189,106 @@ void meshMeshQuery(PairContext& ctx, const Eigen::Isometry3d& poseA, const Eigen
   fcl::detail::collide(&node, nullptr);
 }
 
+// The distance that bounds how far a part can translate along a direction before a pair could block it
+// (CollisionWorld::sweepDistance): FCL's mesh distance traversal with the leaf test leaving out the pairs
+// that can never block that translation. Two triangles whose shadows on the plane across the direction do
+// not overlap never meet while one translates along it (a shaft's facets and a looser bore's, the rim of a
+// hole and the shaft through it); pairs the filter skips (equal coaxial cylinders along their axis, a rim
+// on its coaxial cylinder, coincident planes while the motion stays in them) stay skipped all along.
+class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<double> {
+ public:
+  PairContext* ctx = nullptr;
+  Eigen::Vector3d dir = Eigen::Vector3d::UnitZ();  // the motion, unit, in A's frame
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();
+  double sinAngle = 0.0, cosAngle = 1.0, margin = 0.0;
+
+  void preprocess() override {}
+  void postprocess() override {}
+
+  // Two bounding volumes whose shadows across the motion are apart hold no pair that can meet: pruned
+  // whole, which keeps the traversal from visiting every pair of a shaft and its bore.
+  double BVTesting(int b1, int b2) const override {
+    const fcl::OBBd& o1 = this->model1->getBV(b1).bv.obb;
+    const fcl::OBBd& o2 = this->model2->getBV(b2).bv.obb;
+    const Eigen::Vector3d c1 = o1.To, c2 = this->tf * o2.To;
+    const Eigen::Matrix3d axes2 = this->tf.linear() * o2.axis;
+    Eigen::Vector3d across = c2 - c1;
+    across -= dir * dir.dot(across);
+    const auto apart = [&](const Eigen::Vector3d& u) {
+      double r = 0.0;
+      for (int k = 0; k < 3; ++k) r += o1.extent[k] * std::abs(o1.axis.col(k).dot(u)) + o2.extent[k] * std::abs(axes2.col(k).dot(u));
+      return std::abs((c2 - c1).dot(u)) > r + margin;
+    };
+    if (apart(e1) || apart(e2) || (across.norm() > 1e-12 && apart(across.normalized()))) return std::numeric_limits<double>::max();
+    return fcl::detail::MeshDistanceTraversalNodeOBBRSS<double>::BVTesting(b1, b2);
+  }
+
+  void leafTesting(int b1, int b2) const override {
+    const int i1 = this->model1->getBV(b1).primitiveId();
+    const int i2 = this->model2->getBV(b2).primitiveId();
+    const fcl::Triangle& t1 = this->tri_indices1[i1];
+    const fcl::Triangle& t2 = this->tri_indices2[i2];
+    const Tri p{this->vertices1[t1[0]], this->vertices1[t1[1]], this->vertices1[t1[2]]};
+    const Tri q{this->tf * this->vertices2[t2[0]], this->tf * this->vertices2[t2[1]], this->tf * this->vertices2[t2[2]]};
+    if (neverMeet(p, q) || filtered(i1, i2)) return;
+    fcl::Vector3d P, Q;
+    const double d = fcl::detail::TriangleDistance<double>::triDistance(p[0], p[1], p[2], q[0], q[1], q[2], P, Q);
+    if (d < this->result->min_distance) this->result->update(d, this->model1, this->model2, i1, i2);
+  }
+
+ private:
+  // Separated shadows: some edge normal of either projected triangle separates them by more than the margin.
+  bool neverMeet(const Tri& p, const Tri& q) const {
+    std::array<Eigen::Vector2d, 3> a, b;
+    for (int k = 0; k < 3; ++k) {
+      a[static_cast<std::size_t>(k)] = {p[static_cast<std::size_t>(k)].dot(e1), p[static_cast<std::size_t>(k)].dot(e2)};
+      b[static_cast<std::size_t>(k)] = {q[static_cast<std::size_t>(k)].dot(e1), q[static_cast<std::size_t>(k)].dot(e2)};
+    }
+    const auto separates = [&](const Eigen::Vector2d& edge) {
+      const Eigen::Vector2d n(-edge.y(), edge.x());
+      const double len = n.norm();
+      if (len < 1e-15) return false;
+      double aMin = 1e300, aMax = -1e300, bMin = 1e300, bMax = -1e300;
+      for (const auto& v : a) {
+        aMin = std::min(aMin, n.dot(v) / len);
+        aMax = std::max(aMax, n.dot(v) / len);
+      }
+      for (const auto& v : b) {
+        bMin = std::min(bMin, n.dot(v) / len);
+        bMax = std::max(bMax, n.dot(v) / len);
+      }
+      return aMax + margin < bMin || bMax + margin < aMin;
+    };
+    for (int k = 0; k < 3; ++k) {
+      if (separates(a[static_cast<std::size_t>((k + 1) % 3)] - a[static_cast<std::size_t>(k)])) return true;
+      if (separates(b[static_cast<std::size_t>((k + 1) % 3)] - b[static_cast<std::size_t>(k)])) return true;
+    }
+    return false;
+  }
+
+  bool filtered(int i1, int i2) const {
+    const int ta = ctx->A->bvhToMesh[static_cast<std::size_t>(i1)];
+    const int tb = ctx->B->bvhToMesh[static_cast<std::size_t>(i2)];
+    const SurfacePatches& pa = *ctx->A->patches;
+    const SurfacePatches& pb = *ctx->B->patches;
+    const int planeA = pa.planeOf[static_cast<std::size_t>(ta)], planeB = pb.planeOf[static_cast<std::size_t>(tb)];
+    // Coincident planes stay coincident while the motion lies in them (the collision query drops them as
+    // touching).
+    if (planeA >= 0 && planeB >= 0 && std::abs(pa.planes[static_cast<std::size_t>(planeA)].normal.dot(dir)) <= sinAngle &&
+        ctx->planesCoincide(planeA, planeB))
+      return true;
+    if (ctx->mode != FilterMode::SkipCoaxial) return false;
+    // Along the common axis only: moved sideways, coaxial cylinders stop being coaxial.
+    const int ca = pa.cylinderOf[static_cast<std::size_t>(ta)], cb = pb.cylinderOf[static_cast<std::size_t>(tb)];
+    const auto alongA = [&](int c) { return std::abs(pa.cylinders[static_cast<std::size_t>(c)].direction.dot(dir)) >= cosAngle; };
+    const auto alongB = [&](int c) { return std::abs((ctx->R * pb.cylinders[static_cast<std::size_t>(c)].direction).dot(dir)) >= cosAngle; };
+    if (ca >= 0 && cb >= 0) return alongA(ca) && ctx->cylindersCoaxial(ca, cb);
+    if (cb >= 0 && planeA >= 0 && alongB(cb)) return ctx->rimAgainstCylinder(planeA, cb, -1, -1);
+    if (ca >= 0 && planeB >= 0 && alongA(ca)) return ctx->rimAgainstCylinder(-1, -1, ca, planeB);
+    return false;
+  }
+};
+
 // A mesh triangle (in the box's frame) parallel to a box face and within `distance` of it.
 bool coplanarWithBox(const Tri& t, const Eigen::Vector3d& n, const Eigen::Vector3d& half, double cosAngle, double distance) {
   for (int axis = 0; axis < 3; ++axis) {
@@ -332,6 +432,43 @@ double CollisionWorld::distance(ObjectId a, const Eigen::Isometry3d& poseA, Obje
   fcl::DistanceRequestd req;
   fcl::DistanceResultd res;
   fcl::distance(A.geometry.get(), A.fclPose(poseA), B.geometry.get(), B.fclPose(B.pose), req, res);
+  return std::max(0.0, res.min_distance);
+}
+
+double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
+                                     const Eigen::Vector3d& direction) const {
+  const WorldObject& A = impl_->get(a);
+  const WorldObject& B = impl_->get(b);
+  if (!A.bvh || !B.bvh || !(direction.norm() > 0.0)) return distance(a, poseA, b);
+  QueryResult unused;
+  PairContext ctx;
+  ctx.A = &A;
+  ctx.B = &B;
+  ctx.mode = mode;
+  ctx.tol = impl_->tol;
+  ctx.out = &unused;
+  SweepDistanceNode node;
+  fcl::DistanceRequestd req;
+  fcl::DistanceResultd res;
+  const fcl::Transform3d tf1 = A.fclPose(poseA), tf2 = B.fclPose(B.pose);
+  if (!fcl::detail::initialize(static_cast<fcl::detail::MeshDistanceTraversalNodeOBBRSS<double>&>(node), *A.bvh, tf1, *B.bvh, tf2,
+                               req, res))
+    return distance(a, poseA, b);
+  ctx.R = node.tf.linear();
+  ctx.T = node.tf.translation();
+  ctx.cosAngle = std::cos(ctx.tol.angle);
+  ctx.coaxCache.assign(A.patches->cylinders.size() * B.patches->cylinders.size(), -1);
+  node.ctx = &ctx;
+  node.dir = (tf1.linear().transpose() * direction).normalized();
+  node.e1 = node.dir.unitOrthogonal();
+  node.e2 = node.dir.cross(node.e1);
+  node.cosAngle = ctx.cosAngle;
+  node.sinAngle = std::sin(ctx.tol.angle);
+  // Shadows closer than this count as overlapping: rounding, and the two tessellations' sagittas.
+  node.margin = ctx.tol.distance;
+  res.min_distance = std::numeric_limits<double>::max();
+  fcl::detail::distance(&node, nullptr, 2);
+  if (res.min_distance >= std::numeric_limits<double>::max()) return std::numeric_limits<double>::infinity();
   return std::max(0.0, res.min_distance);
 }
 

@@ -22,5 +22,6 @@
 #include <fcl/narrowphase/detail/traversal/collision/intersect.h>
 #include <fcl/narrowphase/detail/traversal/collision/mesh_collision_traversal_node.h>
 #include <fcl/narrowphase/detail/traversal/collision_node.h>
+#include <fcl/narrowphase/detail/traversal/distance/mesh_distance_traversal_node.h>
 #include <fcl/narrowphase/distance.h>
 #pragma GCC diagnostic pop

@@ -224,6 +224,15 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
   }
   if (motion.s1 <= motion.s0 || L <= 0.0) return ev;
   double s = motion.s0;
+  // A straight translation advances by the distance to what could still block it on the way (the contact
+  // it slides along, and whatever it passes at a clearance, left out); any other motion by the distance.
+  const Eigen::Isometry3d start = motion.pose(motion.s0), end = motion.pose(motion.s1);
+  const Eigen::Vector3d travel = end.translation() - start.translation();
+  const bool straight = (end.linear() - start.linear()).norm() < 1e-12 && travel.norm() > 0.0;
+  const auto gapAt = [&](double at) {
+    return straight ? world.sweepDistance(mover, motion.pose(at), obstacle, mode, travel.normalized())
+                    : world.distance(mover, motion.pose(at), obstacle);
+  };
   // A distance query between parts in contact is the costliest check there is, and sliding parts stay in
   // contact: after each near one, the next few steps are sampled without asking, twice as many each time.
   int unasked = 0, skipNext = 1;
@@ -232,7 +241,7 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
       --unasked;
     } else {
       ++ev.evaluations;
-      const double gap = world.distance(mover, motion.pose(s), obstacle);
+      const double gap = gapAt(s);
       // No point moves faster than L: nothing meets before the gap less half the tolerance is closed.
       if (gap - 0.5 * options.tolerance >= options.maxStep) {
         s = std::min(motion.s1, s + (gap - 0.5 * options.tolerance) / L);

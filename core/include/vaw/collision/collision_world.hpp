@@ -244,6 +244,13 @@ class CollisionWorld {
   // Smallest distance between a (at poseA) and b; 0 when they intersect.
   [[nodiscard]] double distance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b) const;
   [[nodiscard]] double distance(ObjectId a, ObjectId b) const;
+  // How far a (at poseA) can translate along `direction` before anything of b could block it, as a lower
+  // bound: the smallest distance over the triangle pairs that could still meet on the way (docs/collision.md,
+  // "Time of impact"). Left out: pairs whose shadows across the direction do not overlap, which never meet,
+  // and pairs `mode` skips that stay skipped along the motion. Infinite when nothing can meet; distance()
+  // for primitives.
+  [[nodiscard]] double sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
+                                     const Eigen::Vector3d& direction) const;
 
   // The support of a part on the base from a mate or insert constraint (patches matched once).
   [[nodiscard]] Support support(const Constraint& constraint) const;
