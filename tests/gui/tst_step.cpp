@@ -9,6 +9,7 @@
 #include <QDir>
 #include <QDoubleSpinBox>
 #include <QInputDialog>
+#include <QMenu>
 #include <QMimeData>
 #include <QSignalSpy>
 #include <QTableView>
@@ -27,6 +28,7 @@
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/part_properties_model.hpp"
+#include "vaw/ui/scene_tree_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
 
@@ -58,6 +60,7 @@ class TestStep : public QObject {
   void bracketIsAssembledWithTheMouseInOrder();
   void coarserTessellationIsChosenAndReadAgain();
   void headedBoltGoesThroughItsBracketIntoThePlate();
+  void aYUpFileStandsOnItsPlateAndTheUserCanChooseAnotherUp();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -234,6 +237,52 @@ void TestStep::headedBoltGoesThroughItsBracketIntoThePlate() {
   QVERIFY2((world().part(part("bolt-1")).pose.translation() - home.translation()).norm() < 1e-4, "the bolt is home, its head on the bracket");
   QTest::qWait(200);
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-headed-bolt.png"));
+}
+
+// A Pro/ENGINEER-style file (AP203, inches, Y up, instances unnamed) stands on its plate with the parts named
+// by their products; the scene tree's context menu turns it to stand with the file's +Z up instead.
+void TestStep::aYUpFileStandsOnItsPlateAndTheUserCanChooseAnotherUp() {
+  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-proe-%1.stp").arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeBoltedRod(file.toStdString(), {2, false, false, true, true, "AP203"});
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  controller_->open(file);
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  const auto plateHeight = [this] {
+    Eigen::AlignedBox3d box;
+    const vaw::Part& plate = assembly().parts[*assembly().base];
+    for (const auto& v : plate.mesh->vertices) box.extend(plate.pose * v);
+    return box.sizes().z();
+  };
+  QCOMPARE(assembly().parts[*assembly().base].name, std::string("PLATE"));
+  QVERIFY(assembly().findPart("BOLT #6").has_value());
+  QCOMPARE(assembly().cadUp, std::string("auto"));
+  QVERIFY2(std::abs(plateHeight() - 0.010) < 1e-6, "the plate lies flat");
+  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-y-up-flat.png"));
+
+  // Right-click the rod in the tree, Which way is up > The file's +Z up.
+  QTreeView* tree = window_->sceneDock()->view();
+  const QModelIndex item = window_->sceneDock()->model()->indexOfPart(part("ROD"));
+  QVERIFY(item.isValid());
+  tree->scrollTo(item);
+  const QPoint at = tree->viewport()->mapTo(window_.get(), tree->visualRect(item).center());
+  QTest::mouseClick(window_->windowHandle(), Qt::RightButton, {}, at);
+  QMenu* menu = nullptr;
+  QTRY_VERIFY((menu = tree->findChild<QMenu*>(QStringLiteral("sceneTreeMenu"))) != nullptr && menu->isVisible());
+  QMenu* up = menu->findChild<QMenu*>(QStringLiteral("upMenu"));
+  QVERIFY(up != nullptr);
+  QAction* autoUp = up->findChild<QAction*>(QStringLiteral("upauto"));
+  QVERIFY(autoUp != nullptr && autoUp->isChecked());
+  QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(up->menuAction()).center());
+  QTRY_VERIFY(up->isVisible());
+  QAction* zUp = up->findChild<QAction*>(QStringLiteral("up+z"));
+  QVERIFY(zUp != nullptr);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-up-menu.png"));
+  QTest::mouseClick(up, Qt::LeftButton, {}, up->actionGeometry(zUp).center());
+  QVERIFY(loaded.wait(60000));
+  QCOMPARE(assembly().cadUp, std::string("+z"));
+  QVERIFY2(std::abs(plateHeight() - 0.100) < 1e-6, "the plate stands on its long side, as the file has it");
+  QFile::remove(file);
 }
 
 QTEST_MAIN(TestStep)
