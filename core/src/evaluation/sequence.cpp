@@ -109,7 +109,6 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
       }
     ways[p].push_back({d, axis});
   };
-  std::vector<std::pair<PartId, PartId>> pairs;
   for (const Constraint& c : assembly.constraints) {
     const PartId partner = c.partner.value_or(base);
     if (c.part >= n || partner >= n || c.part == partner) continue;
@@ -121,11 +120,10 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
       add(c.part, -d, true);
       if (partner != base) add(partner, d, true);
     }
-    if (partner != base) pairs.emplace_back(std::min(c.part, partner), std::max(c.part, partner));
   }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-  if (pairs.empty()) return out;
+  if (std::none_of(assembly.constraints.begin(), assembly.constraints.end(),
+                   [&](const Constraint& c) { return c.partner && *c.partner != base; }))
+    return out;
 
   Assembly together = assembly;
   for (PartId p = 0; p < n; ++p) together.parts[p].pose = home[p];
@@ -138,31 +136,38 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   const auto whole = [&](PartId p, const Eigen::Vector3d& d) {
     return along(all, d).second - along(world.worldBounds(ObjectId::part(p)), d).first + 2.0 * options.tolerance;
   };
-  // Per part and way: does the base block it (computed once per part).
+  // Per part and way: does the base block it (-1 not swept yet); swept only when it decides something.
   std::vector<std::vector<int>> baseBlocks(n);
-  const auto openWays = [&](PartId p) {
-    if (baseBlocks[p].empty())
-      for (const Way& w : ways[p]) baseBlocks[p].push_back(sweep.block(p, base, w.out, w.axis, whole(p, w.out)) ? 1 : 0);
-    std::vector<std::size_t> open;
-    for (std::size_t k = 0; k < ways[p].size(); ++k)
-      if (!baseBlocks[p][k]) open.push_back(k);
-    // Held in by the base every way: all its ways count, since the pair decides nothing better.
-    if (open.empty())
-      for (std::size_t k = 0; k < ways[p].size(); ++k) open.push_back(k);
-    return open;
+  const auto blockedByBase = [&](PartId p, std::size_t k) {
+    if (baseBlocks[p].empty()) baseBlocks[p].assign(ways[p].size(), -1);
+    int& b = baseBlocks[p][k];
+    if (b < 0) b = sweep.block(p, base, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out)) ? 1 : 0;
+    return b == 1;
   };
-  // True when every way `p` has past the base is blocked by `q` in place: p must come before q.
+  // True when every way `p` has past the base is blocked by `q` in place (every way at all, when the base
+  // blocks them all): p must come before q. The short sweeps against q come first; the base's only where
+  // they leave the answer open.
   const auto needsAbsent = [&](PartId p, PartId q) {
-    const std::vector<std::size_t> open = openWays(p);
-    if (open.empty()) return false;
-    for (const std::size_t k : open)
-      if (!sweep.block(p, q, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out))) return false;
-    return true;
+    if (ways[p].empty()) return false;
+    std::vector<std::size_t> byQ;
+    for (std::size_t k = 0; k < ways[p].size(); ++k) {
+      if (sweep.block(p, q, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out))) byQ.push_back(k);
+      else if (!blockedByBase(p, k)) return false;  // a way out past both
+    }
+    if (byQ.size() == ways[p].size()) return true;
+    // Some ways only the base blocks: q decides only if one of its ways is not the base's too.
+    return std::any_of(byQ.begin(), byQ.end(), [&](std::size_t k) { return !blockedByBase(p, k); });
   };
-  for (const auto& [x, y] : pairs) {
-    if (x == base || y == base) continue;
-    const bool xFirst = needsAbsent(x, y), yFirst = needsAbsent(y, x);
-    if (xFirst != yFirst) out.emplace_back(xFirst ? x : y, xFirst ? y : x);
+  // Only where the geometry says otherwise than the partner the constraints already name: the part that
+  // needs its partner absent, while the partner does not need it absent, goes first.
+  std::vector<std::pair<PartId, PartId>> checked;
+  for (const Constraint& c : assembly.constraints) {
+    const PartId partner = c.partner.value_or(base);
+    if (partner == base || c.part >= n || partner >= n || c.part == partner) continue;
+    const std::pair<PartId, PartId> key{std::min(c.part, partner), std::max(c.part, partner)};
+    if (std::find(checked.begin(), checked.end(), key) != checked.end()) continue;
+    checked.push_back(key);
+    if (needsAbsent(c.part, partner) && !needsAbsent(partner, c.part)) out.emplace_back(c.part, partner);
   }
   if (sweeps) *sweeps = sweep.runs;
   return out;

@@ -88,11 +88,12 @@ std::string travelText(const Eigen::Vector3d& out);
 // Which of two constrained parts goes first, from how they can move (a non-directional blocking graph
 // in the sense of Wilson and Latombe, restricted to the constraints' ways): for every pair of parts that
 // share a constraint (the base aside), each part's ways out (every constraint's direction it is in, off a
-// mate's plane and along an insert's axis both ways) are swept against the other part and the base at
-// `home` (the parts' assembled poses, by PartId). A part all of whose ways the base leaves open are
-// blocked by the other needs the other absent, so it goes first: the bracket before the bolt whose head
-// clamps it. Returns (first, second) for the pairs the geometry decides; a pair where neither or each
-// blocks the other is left out (the caller's rule decides). `sweeps` counts the pair sweeps run.
+// mate's plane and along an insert's axis both ways) are swept at `home` (the parts' assembled poses, by
+// PartId) against the other part and, where that decides it, the base. A part all of whose ways the base
+// leaves open are blocked by the other needs the other absent, so it goes first: the bracket before the
+// bolt whose head clamps it. Returns (first, second) for the pairs where the geometry puts first the part
+// the constraints name as the constrained one (so the partner is to be swapped); pairs where neither or
+// each blocks the other keep the partner they have. `sweeps` counts the pair sweeps run.
 std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
                                                            const SequenceOptions& options = {}, int* sweeps = nullptr);
 
