@@ -155,12 +155,14 @@ struct InspectArgs {
   std::string categories = "default";
   double deflection = vaw::ImportOptions{}.relativeDeflection;
   std::string up;
+  double readerMemory = 0.0;
 };
 
 int inspect(const InspectArgs& args) {
   vaw::LoadOptions options;
   options.import.relativeDeflection = args.deflection;
   if (!args.up.empty()) options.cadUp = args.up;
+  options.import.readerMemoryMB = args.readerMemory;
   if (!vaw::CategorySettings::byName(args.categories, options.categories)) return 2;  // the parser allows known names only
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
@@ -242,6 +244,8 @@ int dispatch(int argc, char** argv) {
   inspectCmd->add_option("--up", ins.up, "CAD files: which way the assembly stands: auto (the base on its most stable face, "
                                          "the default) or the file's axis that points up: +x, -x, +y, -y, +z, -z")
       ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
+  inspectCmd->add_option("--reader-memory", ins.readerMemory, "STEP files: the reader's memory limit in MB (default: half the machine's)")
+      ->check(CLI::Range(64.0, 1e7));
   inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
 
   bool dot = false;

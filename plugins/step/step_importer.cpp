@@ -225,8 +225,12 @@ class StepImporter final : public vaw::MeshImporter {
     const std::filesystem::path result = tmp.path() / "result.cbor";
     const std::filesystem::path errors = tmp.path() / "stderr.txt";
     const std::string rel = seconds(options.relativeDeflection), ang = seconds(options.angularDeflection);
+    // The reader dies with this process (--parent) and within its memory limit.
+    double memoryMB = options.readerMemoryMB;
+    if (!(memoryMB > 0.0)) memoryMB = 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE)) / 1048576.0;
+    const std::string memory = std::to_string(static_cast<long long>(memoryMB));
     std::vector<std::string> args = {reader.string(),        name, "--out", result.string(), "--relative-deflection", rel,
-                                     "--angular-deflection", ang};
+                                     "--angular-deflection", ang, "--parent", std::to_string(getpid()), "--memory-limit-mb", memory};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -325,6 +329,9 @@ class StepImporter final : public vaw::MeshImporter {
       }
       vaw::fail(name, "", "a STEP file Open CASCADE can read", lastLine(errors));
     }
+    if (code == 5)
+      vaw::fail(name, "", "a STEP file Open CASCADE reads within the reader's memory limit of " + memory + " MB",
+                lastLine(errors) + " while " + stage + " (the limit is half the machine's memory unless set; vaw-sim: --reader-memory MB)");
     if (code != 0) {
       const std::string why = lastLine(errors);
       vaw::fail(name, "", "a STEP file Open CASCADE can read",

@@ -53,14 +53,21 @@
 #include <XCAFDoc_DocumentTool.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 #include <XSControl_TransferReader.hxx>
+#include <Standard_OutOfMemory.hxx>
 #include <XSControl_WorkSession.hxx>
 #include <gp_Cylinder.hxx>
 #include <gp_Pln.hxx>
+
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <cctype>
 #include <cmath>
+#include <csignal>
+#include <cstdlib>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
@@ -68,6 +75,8 @@
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <new>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <set>
@@ -737,8 +746,31 @@ void writeResult(const std::filesystem::path& out, const json& j) {
 int usage(const char* why) {
   std::fprintf(
       stderr,
-      "vaw-step-import: %s\nusage: vaw-step-import FILE --out RESULT [--relative-deflection X] [--angular-deflection A]\n", why);
+      "vaw-step-import: %s\nusage: vaw-step-import FILE --out RESULT [--relative-deflection X] [--angular-deflection A]\n"
+      "       [--parent PID] [--memory-limit-mb MB]\n", why);
   return 2;
+}
+
+// A fault on purpose, for the tests of what the plugin makes of each (VAW_STEP_READER_FAULT, never set in
+// use): "crash" dies of SIGSEGV, "hang" never finishes, "memory" allocates until its limit stops it,
+// "truncate" writes half a result and reports success.
+void injectFault(const std::string& fault, const std::filesystem::path& out) {
+  if (fault == "crash") std::raise(SIGSEGV);
+  if (fault == "hang")
+    for (;;) pause();
+  if (fault == "memory") {
+    std::vector<std::unique_ptr<char[]>> held;
+    for (;;) {
+      held.emplace_back(new char[64 << 20]);
+      std::memset(held.back().get(), 1, 64 << 20);
+    }
+  }
+  if (fault == "truncate") {
+    const std::vector<std::uint8_t> bytes = json::to_cbor(json{{"format", "STEP AP214"}, {"solids", json::array({json::object()})}});
+    std::ofstream f(out, std::ios::binary | std::ios::trunc);
+    f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size() / 2));
+    std::exit(0);
+  }
 }
 
 }  // namespace
@@ -746,11 +778,15 @@ int usage(const char* why) {
 int main(int argc, char** argv) {
   std::filesystem::path file, out;
   double relative = 0.001, angular = 0.35;
+  long parent = 0;
+  double memoryMB = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     const bool hasValue = i + 1 < argc;
     try {
       if (a == "--out" && hasValue) out = argv[++i];
+      else if (a == "--parent" && hasValue) parent = std::stol(argv[++i]);
+      else if (a == "--memory-limit-mb" && hasValue) memoryMB = std::stod(argv[++i]);
       else if (a == "--relative-deflection" && hasValue) relative = std::stod(argv[++i]);
       else if (a == "--angular-deflection" && hasValue) angular = std::stod(argv[++i]);
       else if (a.rfind("--", 0) == 0) return usage(("unknown or incomplete option " + a).c_str());
@@ -764,7 +800,25 @@ int main(int argc, char** argv) {
   if (!(relative > 0.0 && relative < 1.0) || !(angular > 0.0 && angular < 3.2))
     return usage("deflections must be in (0, 1) (relative) and (0, pi] (angular, radians)");
 
+  // Ends with whoever started it, even when that one is killed: a reader spinning on a hostile file must
+  // not outlive the window or command that waits for it. The parent may be gone already by now.
+  if (parent > 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != static_cast<pid_t>(parent)) return 6;
+  }
+  // A file that makes Open CASCADE eat memory ends the reader with a named error, not the machine's OOM
+  // killer choosing the window.
+  if (memoryMB > 0.0) {
+    const auto bytes = static_cast<rlim_t>(memoryMB * 1048576.0);
+    const rlimit limit{bytes, bytes};
+    setrlimit(RLIMIT_AS, &limit);
+  }
+  const auto outOfMemory = [&] {
+    std::fprintf(stderr, "it needed more memory than the reader's limit of %.0f MB\n", memoryMB);
+    return 5;
+  };
   try {
+    if (const char* fault = std::getenv("VAW_STEP_READER_FAULT")) injectFault(fault, out);
     Reader reader(relative, angular);
     json result = reader.read(file);
     progress(0.97, "writing the result");
@@ -779,6 +833,10 @@ int main(int argc, char** argv) {
       // The stderr line alone still tells the plugin what is wrong.
     }
     return 3;
+  } catch (const std::bad_alloc&) {
+    return outOfMemory();
+  } catch (const Standard_OutOfMemory&) {
+    return outOfMemory();
   } catch (const Standard_Failure& f) {
     std::fprintf(stderr, "Open CASCADE failed: %s: %s\n", f.DynamicType()->Name(), f.GetMessageString());
     return 4;

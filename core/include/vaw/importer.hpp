@@ -30,6 +30,9 @@ struct ImportOptions {
   double angularDeflection = 0.35;
   // A CAD reader runs in a child process; past this it is ended and the file named as too slow.
   double timeoutSeconds = 300.0;
+  // A CAD reader's address-space limit, MB; past it the reader ends with a named error. 0: half the
+  // machine's memory.
+  double readerMemoryMB = 0.0;
 };
 
 // The exact geometry a CAD importer knows about one face of a solid, in the solid's own frame, metres.
@@ -105,7 +108,7 @@ class MeshImporter {
 
 // A plugin exports these two C symbols. The ABI version guards against loading a plugin built
 // against a different interface.
-inline constexpr int kImporterAbiVersion = 2;  // 2: ImportOptions and CAD assemblies
+inline constexpr int kImporterAbiVersion = 3;  // 2: ImportOptions and CAD assemblies; 3: the reader's memory limit
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();
