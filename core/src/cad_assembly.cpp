@@ -37,24 +37,16 @@ void checkCancel(const ProgressFn& progress, double f, const std::string& stage)
   if (progress && !progress(std::clamp(f, 0.0, 1.0), stage)) throw LoadCancelled();
 }
 
-// A name a geometry kernel made up for an unnamed label ("=>[0:1:1:7]", "0:1:1:7"), not a person.
-bool kernelName(const std::string& name) {
-  std::string s = name;
-  if (s.rfind("=>", 0) == 0) s = s.substr(2);
-  if (s.size() >= 2 && s.front() == '[' && s.back() == ']') s = s.substr(1, s.size() - 2);
-  if (s.empty()) return !name.empty();
-  return s.find_first_not_of("0123456789:") == std::string::npos && s.find(':') != std::string::npos;
-}
-
 // Walks the file's tree: sub-assemblies become groups, solid instances parts (in file order). A part is
-// named by its instance, else its product, else the nearest named ancestor (`ancestor`).
+// named by its instance, else its product, else the nearest named ancestor (`ancestor`); the STEP reader
+// never passes on the names Open CASCADE makes up for unnamed labels.
 TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vector<Instance>& out, std::set<std::string>& names,
               const std::string& ancestor = {}) {
   const Eigen::Isometry3d pose = parent * n.location;
-  const std::string own = kernelName(n.name) ? std::string() : n.name;
+  const std::string& own = n.name;
   TreeNode t;
   if (n.solid) {
-    std::string name = !own.empty() ? own : !kernelName(n.solid->product) ? n.solid->product : std::string();
+    std::string name = !own.empty() ? own : n.solid->product;
     if (name.empty()) name = ancestor;
     if (name.empty()) name = "part";
     // Part names identify parts in scenes and sessions, so repeated instance names get a number.

@@ -7,6 +7,8 @@
 #include <QApplication>
 #include <QLineEdit>
 #include <QMainWindow>
+#include <QMenu>
+#include <QTreeView>
 #include <QPixmap>
 #include <QScreen>
 #include <QStatusBar>
@@ -16,7 +18,9 @@
 #include <cmath>
 #include <memory>
 
+#include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
+#include "vaw/ui/scene_tree_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
 
@@ -122,6 +126,21 @@ QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId id, 
 void verifyNoWarnings() {
   const QStringList warnings = takeWarnings();
   QVERIFY2(warnings.isEmpty(), qPrintable(QStringLiteral("unexpected Qt warnings:\n") + warnings.join(QLatin1Char('\n'))));
+}
+
+QMenu* openSceneTreeMenu(ui::MainWindow& window, PartId part) {
+  QTreeView* tree = window.sceneDock()->view();
+  const QModelIndex item = window.sceneDock()->model()->indexOfPart(part);
+  if (!item.isValid()) return nullptr;
+  tree->scrollTo(item);
+  const QPoint at = tree->viewport()->mapTo(&window, tree->visualRect(item).center());
+  QTest::mouseClick(window.windowHandle(), Qt::RightButton, {}, at);
+  QMenu* menu = nullptr;
+  const bool shown = QTest::qWaitFor([&] {
+    menu = tree->findChild<QMenu*>(QStringLiteral("sceneTreeMenu"));
+    return menu != nullptr && menu->isVisible();
+  }, 5000);
+  return shown ? menu : nullptr;
 }
 
 QString shotPath(const QString& name) { return QStringLiteral(VAW_GUI_SHOT_DIR "/") + name; }

@@ -13,6 +13,7 @@
 #include "vaw/assembly.hpp"
 
 class QMainWindow;
+class QMenu;
 class QWidget;
 
 namespace vaw::ui {
@@ -62,6 +63,9 @@ void typeInto(QAbstractSpinBox* box, const QString& text);
 // bar) first.
 void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers = {});
 
+// As a person opens it: a right-click on the part's row in the scene tree. The context menu once it is
+// shown, or null when it does not show within 5 s.
+QMenu* openSceneTreeMenu(ui::MainWindow& window, PartId part);
 // Where screenshots go (the build tree's tests/gui).
 QString shotPath(const QString& name);
 // Saves a screenshot of `widget` (the whole window as the screen shows it, when it is `window`).

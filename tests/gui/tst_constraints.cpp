@@ -360,14 +360,8 @@ void TestConstraints::anotherPartBecomesTheBase() {
     QVERIFY(a->toolTip().contains(QStringLiteral("base already")));
   }
 
-  QTreeView* tree = window_->sceneDock()->view();
-  const QModelIndex item = window_->sceneDock()->model()->indexOfPart(*bracket);
-  QVERIFY(item.isValid());
-  tree->scrollTo(item);
-  const QPoint at = tree->viewport()->mapTo(window_.get(), tree->visualRect(item).center());
-  QTest::mouseClick(window_->windowHandle(), Qt::RightButton, {}, at);
-  QMenu* menu = nullptr;
-  QTRY_VERIFY((menu = tree->findChild<QMenu*>(QStringLiteral("sceneTreeMenu"))) != nullptr && menu->isVisible());
+  QMenu* menu = vaw::guitest::openSceneTreeMenu(*window_, *bracket);
+  QVERIFY2(menu != nullptr, "the scene tree's context menu shows");
   QAction* makeBase = menu->findChild<QAction*>(QStringLiteral("makeBaseAction"));
   QVERIFY(makeBase != nullptr);
   QVERIFY(makeBase->isEnabled());

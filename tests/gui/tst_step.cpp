@@ -70,7 +70,9 @@ class TestStep : public QObject {
   [[nodiscard]] PartId part(const char* name) const { return *assembly().findPart(name); }
   [[nodiscard]] PartState state(const char* name) const { return world().part(part(name)).state; }
   [[nodiscard]] bool messagesMention(const QString& text) const;
-  void open();
+  void open(const QString& file = sampleFile());
+  // The bolted rod of tests/step/test_real_exports.cpp written in `style` to a file of the temp folder.
+  [[nodiscard]] static QString writeBoltedRod(const char* stem, const vaw::steptest::ExportStyle& style);
   void carry(const char* name, const Eigen::Isometry3d& target) { vaw::guitest::carryWithMouse(*window_, part(name), target, name); }
   [[nodiscard]] Eigen::Isometry3d above(const char* name, double mm) const {
     Eigen::Isometry3d t = *assembly().parts[part(name)].finalPose;
@@ -110,15 +112,22 @@ bool TestStep::messagesMention(const QString& text) const {
   return false;
 }
 
-void TestStep::open() {
+void TestStep::open(const QString& file) {
   QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
-  controller_->open(sampleFile());
+  controller_->open(file);
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
   QVERIFY(sim().hasWorld());
   sim().setSpeed(1.0);
   QVERIFY(!vaw::guitest::capture(viewport()).isNull());
 }
 
+
+QString TestStep::writeBoltedRod(const char* stem, const vaw::steptest::ExportStyle& style) {
+  const QString file =
+      QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-%1-%2.stp").arg(QLatin1String(stem)).arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeBoltedRod(file.toStdString(), style);
+  return file;
+}
 
 // The sample dropped on the window as from a file manager: the tree shows the file's assembly, the part
 // panel the B-rep as the mass source.
@@ -211,16 +220,10 @@ void TestStep::coarserTessellationIsChosenAndReadAgain() {
 // bracket on the plate, then the headed bolt through it into the plate slides home and is PLACED, held by
 // its head on the bracket.
 void TestStep::headedBoltGoesThroughItsBracketIntoThePlate() {
-  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-bolted-rod-%1.stp").arg(QCoreApplication::applicationPid()));
-  vaw::steptest::writeBoltedRod(file.toStdString(), {4, true, true, false, false, "AP214"});
-  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
-  controller_->open(file);
-  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  const QString file = writeBoltedRod("bolted-rod", {4, true, true, false, false, "AP214"});
+  open(file);
   QFile::remove(file);
-  QVERIFY(sim().hasWorld());
-  sim().setSpeed(1.0);
   QCOMPARE(assembly().constraints.size(), std::size_t{38});
-  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
 
   // The bolt at its place before its bracket: the bracket is its partner, and is not placed.
   carry("bolt-4", above("bolt-4", 3.0));
@@ -242,11 +245,8 @@ void TestStep::headedBoltGoesThroughItsBracketIntoThePlate() {
 // A Pro/ENGINEER-style file (AP203, inches, Y up, instances unnamed) stands on its plate with the parts named
 // by their products; the scene tree's context menu turns it to stand with the file's +Z up instead.
 void TestStep::aYUpFileStandsOnItsPlateAndTheUserCanChooseAnotherUp() {
-  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-proe-%1.stp").arg(QCoreApplication::applicationPid()));
-  vaw::steptest::writeBoltedRod(file.toStdString(), {2, false, false, true, true, "AP203"});
-  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
-  controller_->open(file);
-  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  const QString file = writeBoltedRod("proe", {2, false, false, true, true, "AP203"});
+  open(file);
   const auto plateHeight = [this] {
     Eigen::AlignedBox3d box;
     const vaw::Part& plate = assembly().parts[*assembly().base];
@@ -257,18 +257,11 @@ void TestStep::aYUpFileStandsOnItsPlateAndTheUserCanChooseAnotherUp() {
   QVERIFY(assembly().findPart("BOLT #6").has_value());
   QCOMPARE(assembly().cadUp, std::string("auto"));
   QVERIFY2(std::abs(plateHeight() - 0.010) < 1e-6, "the plate lies flat");
-  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-y-up-flat.png"));
 
   // Right-click the rod in the tree, Which way is up > The file's +Z up.
-  QTreeView* tree = window_->sceneDock()->view();
-  const QModelIndex item = window_->sceneDock()->model()->indexOfPart(part("ROD"));
-  QVERIFY(item.isValid());
-  tree->scrollTo(item);
-  const QPoint at = tree->viewport()->mapTo(window_.get(), tree->visualRect(item).center());
-  QTest::mouseClick(window_->windowHandle(), Qt::RightButton, {}, at);
-  QMenu* menu = nullptr;
-  QTRY_VERIFY((menu = tree->findChild<QMenu*>(QStringLiteral("sceneTreeMenu"))) != nullptr && menu->isVisible());
+  QMenu* menu = vaw::guitest::openSceneTreeMenu(*window_, part("ROD"));
+  QVERIFY2(menu != nullptr, "the scene tree's context menu shows");
   QMenu* up = menu->findChild<QMenu*>(QStringLiteral("upMenu"));
   QVERIFY(up != nullptr);
   QAction* autoUp = up->findChild<QAction*>(QStringLiteral("upauto"));
@@ -278,6 +271,7 @@ void TestStep::aYUpFileStandsOnItsPlateAndTheUserCanChooseAnotherUp() {
   QAction* zUp = up->findChild<QAction*>(QStringLiteral("up+z"));
   QVERIFY(zUp != nullptr);
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-up-menu.png"));
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
   QTest::mouseClick(up, Qt::LeftButton, {}, up->actionGeometry(zUp).center());
   QVERIFY(loaded.wait(60000));
   QCOMPARE(assembly().cadUp, std::string("+z"));
