@@ -331,7 +331,8 @@ TEST(RealExportUp, TheFilesAxisCanBeChosen) {
 namespace {
 
 // By hand in the world, as the window does it: a bolt before its bracket is refused; the bracket on the
-// plate, then the headed bolt through it into the plate slides home and is PLACED.
+// plate, then the headed bolt through it into the plate slides home and is PLACED; the base turned over,
+// its nut goes onto the bolt's end against the plate.
 TEST(RealExportAssembling, TheHeadedBoltGoesThroughItsBracketIntoThePlate) {
   const fs::path file = vaw::test::tempDir() / "bolted-rod-hands.stp";
   vaw::steptest::writeBoltedRod(file, {4, true, true, false, false, "AP214"});
@@ -348,6 +349,33 @@ TEST(RealExportAssembling, TheHeadedBoltGoesThroughItsBracketIntoThePlate) {
   EXPECT_EQ(hands.state("bolt-1"), vaw::interact::PartState::Placed) << hands.events("bolt-1", true);
   const PartId bolt = *a.findPart("bolt-1");
   EXPECT_LT((hands.world().part(bolt).pose.translation() - a.parts[bolt].finalPose->translation()).norm(), 1e-4);
+
+  // Its nut goes on under the plate: the left hand turns the base over (and lifts it clear of the table),
+  // so that the nut comes down onto the bolt's end and the plate's underside, and is PLACED.
+  const Eigen::Isometry3d held = hands.world().basePose();
+  Eigen::Isometry3d over = Eigen::Isometry3d::Identity();
+  over.translate(Eigen::Vector3d(0, 0, 0.15));
+  over.rotate(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()));
+  vaw::sim::Input turn;
+  for (int i = 1; i <= 540; ++i) {
+    Eigen::Isometry3d partWay = Eigen::Isometry3d::Identity();
+    partWay.translate(Eigen::Vector3d(0, 0, 0.15 * i / 540.0));
+    partWay.rotate(Eigen::AngleAxisd(M_PI * i / 540.0, Eigen::Vector3d::UnitX()));
+    turn.base = partWay * held;
+    hands.world().step(turn);
+  }
+  hands.settle(30);
+  ASSERT_EQ(hands.state("bolt-1"), vaw::interact::PartState::Placed) << hands.events("bolt-1", true);
+  const PartId nut = *a.findPart("nut-1");
+  Eigen::Isometry3d nutHome = hands.world().basePose() * held.inverse() * *a.parts[nut].finalPose;
+  nutHome.translation().z() += 0.006;
+  nutHome.translation() += Eigen::Vector3d(0.00033, 0.00017, 0.0);
+  hands.carry("nut-1", nutHome);
+  nutHome.translation() -= Eigen::Vector3d(0.00033, 0.00017, 0.0);
+  hands.settle();
+  EXPECT_EQ(hands.state("nut-1"), vaw::interact::PartState::Placed) << hands.events("nut-1", true);
+  nutHome.translation().z() -= 0.006;
+  EXPECT_LT((hands.world().part(nut).pose.translation() - nutHome.translation()).norm(), 1e-4) << "on the plate's underside";
 }
 
 }  // namespace

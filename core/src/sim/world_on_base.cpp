@@ -108,9 +108,12 @@ bool World::Impl::captures(PartId id, const Recognition& rec, bool checkTouch) {
   // (a stud pushed through the plate from below) is not put on it there.
   if (c.found && def(id).finalPose) {
     const Eigen::Vector3d home = basePose.linear() * c.homeDirection;
-    const Eigen::Vector3d finalAt = (basePose * (baseLoad.inverse() * *def(id).finalPose)).translation();
+    // Centres of mass, not frame origins: a nut carried the other way up (the same nut) has its frame's
+    // origin at its other end.
+    const Eigen::Vector3d& com = def(id).mass.centerOfMass;
+    const Eigen::Vector3d finalAt = (basePose * (baseLoad.inverse() * *def(id).finalPose)) * com;
     // Where it was let go, not where the mate would snap it.
-    if (home.dot(parts[id].pose.translation() - finalAt) < -settings.placeDistance) return false;
+    if (home.dot(parts[id].pose * com - finalAt) < -settings.placeDistance) return false;
   }
   const collision::Support& s = scene->support(rec.constraint);
   if (!s.problem.empty()) return false;
