@@ -7,6 +7,8 @@
 #include <map>
 #include <numbers>
 #include <queue>
+#include <set>
+#include <tuple>
 
 #include "collision/geometry2d.hpp"
 
@@ -273,10 +275,13 @@ double distanceToTriangles(const CadSolid& s, const CadFace& f, const Eigen::Vec
 // exporter left separate) add their overlap to the first, and an insert keeps its tightest fit.
 std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, const RecognitionTolerances& tol) {
   std::vector<FoundConstraint> out;
+  // The constraints kept so far, per pair and kind.
+  std::map<std::tuple<std::size_t, std::size_t, int>, std::vector<std::size_t>> byPair;
   for (FoundConstraint& f : found) {
     FoundConstraint* same = nullptr;
-    for (FoundConstraint& g : out) {
-      if (g.a != f.a || g.b != f.b || g.type != f.type) continue;
+    auto& kept = byPair[{f.a, f.b, static_cast<int>(f.type)}];
+    for (const std::size_t k : kept) {
+      FoundConstraint& g = out[k];
       if (f.direction.cross(g.direction).norm() > tol.angle) continue;
       const Eigen::Vector3d rel = f.point - g.point;
       const double apart = f.type == Constraint::Type::Insert ? (rel - g.direction * g.direction.dot(rel)).norm()
@@ -288,6 +293,7 @@ std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, c
       }
     }
     if (!same) {
+      kept.push_back(out.size());
       out.push_back(std::move(f));
       continue;
     }
@@ -432,11 +438,10 @@ std::vector<Constraint> constraintsFromFound(const std::vector<FoundConstraint>&
   }
   // True when `x` is assembled before `y`, so `x` is the partner: as the geometry decided, else the base
   // first, the part nearer the base, the shaft before what goes onto it (a nut onto its bolt), the lower.
+  const std::set<std::pair<PartId, PartId>> decided(first.begin(), first.end());
   const auto before = [&](std::size_t x, std::size_t y, const FoundConstraint& f) {
-    for (const auto& [one, two] : first) {
-      if (one == x && two == y) return true;
-      if (one == y && two == x) return false;
-    }
+    if (decided.count({x, y})) return true;
+    if (decided.count({y, x})) return false;
     if (x == base || y == base) return x == base;
     if (hops[x] != hops[y]) return hops[x] < hops[y];
     if (f.type == Constraint::Type::Insert && parts[f.a].cad && parts[f.b].cad && f.faceA < parts[f.a].cad->faces.size() &&

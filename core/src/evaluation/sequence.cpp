@@ -160,13 +160,11 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   };
   // Only where the geometry says otherwise than the partner the constraints already name: the part that
   // needs its partner absent, while the partner does not need it absent, goes first.
-  std::vector<std::pair<PartId, PartId>> checked;
+  std::set<std::pair<PartId, PartId>> checked;
   for (const Constraint& c : assembly.constraints) {
     const PartId partner = c.partner.value_or(base);
     if (partner == base || c.part >= n || partner >= n || c.part == partner) continue;
-    const std::pair<PartId, PartId> key{std::min(c.part, partner), std::max(c.part, partner)};
-    if (std::find(checked.begin(), checked.end(), key) != checked.end()) continue;
-    checked.push_back(key);
+    if (!checked.emplace(std::min(c.part, partner), std::max(c.part, partner)).second) continue;
     if (needsAbsent(c.part, partner) && !needsAbsent(partner, c.part)) out.emplace_back(c.part, partner);
   }
   if (sweeps) *sweeps = sweep.runs;
