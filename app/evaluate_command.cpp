@@ -8,7 +8,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "vaw/evaluation/report.hpp"
+#include "vaw/report/report.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/evaluation/session_stats.hpp"
 #include "vaw/sim/scene.hpp"
@@ -165,6 +165,9 @@ int evaluate(const EvaluateArgs& args) {
   try {
     LoadOptions options;
     if (!args.up.empty()) options.cadUp = args.up;
+    options.import.timeoutSeconds = args.reader.timeoutSeconds;
+    options.import.readerMemoryMB = args.reader.memoryMB;
+    options.import.maxInstances = args.reader.maxInstances;
     const Assembly a = loadAny(resolveScenePath(args.file), importers, options, progress);
     const auto start = std::chrono::steady_clock::now();
     const eval::SequencePlan plan = eval::planSequence(a, {}, progress);
@@ -185,7 +188,7 @@ int evaluate(const EvaluateArgs& args) {
       json j = toJson(a, plan, seconds);
       if (!sessions.empty()) {
         json rows = json::array();
-        for (const auto& r : eval::partRows(a, plan, sessions))
+        for (const auto& r : report::partRows(a, plan, sessions))
           rows.push_back({{"part", r.name}, {"placed_in", r.placedIn}, {"time_to_place_mean_s", r.timeToPlace.mean},
                           {"time_to_place_sd_s", r.timeToPlace.sd}, {"grabs_mean", r.grabs.mean}, {"drops_mean", r.drops.mean},
                           {"refusals_mean", r.refusals.mean}, {"carried_mean_m", r.carried.mean}, {"estimate_s", r.estimate.total_s()}});
@@ -199,7 +202,7 @@ int evaluate(const EvaluateArgs& args) {
                     sessions.size() == 1 ? "" : "s");
         std::printf("  %-20s %8s %16s %7s %7s %9s %10s %10s\n", "part", "placed", "time to place s", "grabs", "drops", "refusals",
                     "carried m", "estimate s");
-        for (const auto& r : eval::partRows(a, plan, sessions)) {
+        for (const auto& r : report::partRows(a, plan, sessions)) {
           if (r.step == "base") continue;
           char time[48] = "";
           if (r.timeToPlace.n > 0) std::snprintf(time, sizeof time, "%.2f (%.2f)", r.timeToPlace.mean, r.timeToPlace.sd);
@@ -210,7 +213,7 @@ int evaluate(const EvaluateArgs& args) {
     }
     if (!args.report.empty()) {
       std::fflush(stdout);  // the table before the note, when both go to one file
-      const eval::ReportFiles files = eval::writeReport(a, plan, sessions, args.report);
+      const report::ReportFiles files = report::writeReport(a, plan, sessions, args.report);
       std::fprintf(stderr, "vaw-sim: wrote %s (and parts.csv, sequence.csv, sessions.csv, evaluation.json beside it)\n",
                    files.html.string().c_str());
     }

@@ -149,20 +149,32 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
 }
 
 
+void addReaderLimits(CLI::App* cmd, vaw::app::ReaderLimits& limits) {
+  cmd->add_option("--timeout", limits.timeoutSeconds, "STEP files: seconds the reader may take (default 300)")
+      ->check(CLI::Range(0.01, 86400.0));
+  cmd->add_option("--reader-memory", limits.memoryMB, "STEP files: the reader's memory limit in MB (default: half the machine's)")
+      ->check(CLI::Range(64.0, 1e7));
+  cmd->add_option("--max-instances", limits.maxInstances,
+                  "STEP files: part instances a file may declare, its assembly tree expanded (default 10000)")
+      ->check(CLI::Range(1.0, 1e9));
+}
+
 struct InspectArgs {
   std::string file;
   bool json = false;
   std::string categories = "default";
   double deflection = vaw::ImportOptions{}.relativeDeflection;
   std::string up;
-  double readerMemory = 0.0;
+  vaw::app::ReaderLimits reader;
 };
 
 int inspect(const InspectArgs& args) {
   vaw::LoadOptions options;
   options.import.relativeDeflection = args.deflection;
   if (!args.up.empty()) options.cadUp = args.up;
-  options.import.readerMemoryMB = args.readerMemory;
+  options.import.timeoutSeconds = args.reader.timeoutSeconds;
+  options.import.readerMemoryMB = args.reader.memoryMB;
+  options.import.maxInstances = args.reader.maxInstances;
   if (!vaw::CategorySettings::byName(args.categories, options.categories)) return 2;  // the parser allows known names only
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
@@ -244,8 +256,7 @@ int dispatch(int argc, char** argv) {
   inspectCmd->add_option("--up", ins.up, "CAD files: which way the assembly stands: auto (the base on its most stable face, "
                                          "the default) or the file's axis that points up: +x, -x, +y, -y, +z, -z")
       ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
-  inspectCmd->add_option("--reader-memory", ins.readerMemory, "STEP files: the reader's memory limit in MB (default: half the machine's)")
-      ->check(CLI::Range(64.0, 1e7));
+  addReaderLimits(inspectCmd, ins.reader);
   inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
 
   bool dot = false;
@@ -287,6 +298,7 @@ int dispatch(int argc, char** argv) {
       ->type_name("DIR");
   evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default) or the file's axis that points up")
       ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
+  addReaderLimits(evCmd, ev.reader);
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 
   vaw::app::WorkPrecisionArgs wp;

@@ -19,21 +19,21 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <variant>
 #include <vector>
 
-#include "vaw/cad_faces.hpp"
 #include "vaw/error.hpp"
 #include "vaw/importer.hpp"
+
+#include "step_result_parser.hpp"
 
 extern char** environ;
 
 namespace {
 
-using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
 // Where this plugin's file is: the reader is installed beside it.
@@ -128,80 +128,6 @@ std::string signalName(int sig) {
   return "signal " + std::to_string(sig) + (abbrev ? std::string(", SIG") + abbrev : std::string());
 }
 
-// ---------------------------------------------------------------------------------------------------
-// The child's CBOR result
-
-template <typename T>
-std::vector<T> unblob(const json& j) {
-  const auto& bytes = j.get_binary();
-  std::vector<T> v(bytes.size() / sizeof(T));
-  if (!v.empty()) std::memcpy(v.data(), bytes.data(), v.size() * sizeof(T));
-  return v;
-}
-
-Eigen::Vector3d vec3(const json& j) { return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()}; }
-Eigen::Vector3f color(const json& j) {
-  return {static_cast<float>(j.at(0).get<double>()), static_cast<float>(j.at(1).get<double>()),
-          static_cast<float>(j.at(2).get<double>())};
-}
-
-std::shared_ptr<const vaw::CadSolid> solidFrom(const json& j) {
-  auto s = std::make_shared<vaw::CadSolid>();
-  s->product = j.at("product").get<std::string>();
-  s->volume = j.at("volume").get<double>();
-  s->centroid = vec3(j.at("centroid"));
-  const json& I = j.at("inertia");
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) s->inertiaUnitDensity(r, c) = I.at(static_cast<std::size_t>(3 * r + c)).get<double>();
-  s->surfaceArea = j.at("area").get<double>();
-  s->deflection = j.at("deflection").get<double>();
-  if (j.contains("color")) s->color = color(j.at("color"));
-  const auto v = unblob<double>(j.at("vertices"));
-  const auto t = unblob<std::int32_t>(j.at("triangles"));
-  s->mesh.vertices.reserve(v.size() / 3);
-  for (std::size_t i = 0; i + 2 < v.size(); i += 3) s->mesh.vertices.emplace_back(v[i], v[i + 1], v[i + 2]);
-  s->mesh.triangles.reserve(t.size() / 3);
-  for (std::size_t i = 0; i + 2 < t.size(); i += 3) s->mesh.triangles.emplace_back(t[i], t[i + 1], t[i + 2]);
-  for (const json& jf : j.at("faces")) {
-    vaw::CadFace f;
-    const int kind = jf.at("surface").get<int>();
-    f.surface = kind == 0   ? vaw::CadFace::Surface::Plane
-                : kind == 1 ? vaw::CadFace::Surface::Cylinder
-                            : vaw::CadFace::Surface::Other;
-    f.area = jf.at("area").get<double>();
-    f.firstTriangle = jf.at("first").get<std::size_t>();
-    f.triangleCount = jf.at("count").get<std::size_t>();
-    if (jf.contains("point")) f.point = vec3(jf.at("point"));
-    if (jf.contains("direction")) f.direction = vec3(jf.at("direction")).normalized();
-    f.fromSpline = jf.value("fromSpline", false);
-    f.radius = jf.value("radius", 0.0);
-    f.convex = jf.value("convex", true);
-    f.axialMin = jf.value("axialMin", 0.0);
-    f.axialMax = jf.value("axialMax", 0.0);
-    s->faces.push_back(f);
-  }
-  // The reader writes Open CASCADE's faces as they are; a cylinder the exporter split is one surface here.
-  vaw::mergeSplitFaces(*s);
-  return s;
-}
-
-vaw::ImportedNode nodeFrom(const json& j, const std::vector<std::shared_ptr<const vaw::CadSolid>>& solids) {
-  vaw::ImportedNode n;
-  n.name = j.at("name").get<std::string>();
-  if (j.contains("location")) {
-    const json& l = j.at("location");
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 4; ++c) m(r, c) = l.at(static_cast<std::size_t>(4 * r + c)).get<double>();
-    n.location = Eigen::Isometry3d(m);
-  }
-  if (j.contains("color")) n.color = color(j.at("color"));
-  if (j.contains("solid")) n.solid = solids.at(j.at("solid").get<std::size_t>());
-  if (j.contains("children"))
-    for (const json& c : j.at("children")) n.children.push_back(nodeFrom(c, solids));
-  return n;
-}
-
 class StepImporter final : public vaw::MeshImporter {
  public:
   [[nodiscard]] std::string name() const override { return "Open CASCADE STEP"; }
@@ -230,7 +156,8 @@ class StepImporter final : public vaw::MeshImporter {
     if (!(memoryMB > 0.0)) memoryMB = 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE)) / 1048576.0;
     const std::string memory = std::to_string(static_cast<long long>(memoryMB));
     std::vector<std::string> args = {reader.string(),        name, "--out", result.string(), "--relative-deflection", rel,
-                                     "--angular-deflection", ang, "--parent", std::to_string(getpid()), "--memory-limit-mb", memory};
+                                     "--angular-deflection", ang, "--parent", std::to_string(getpid()), "--memory-limit-mb", memory,
+                                     "--max-instances", std::to_string(static_cast<long long>(options.maxInstances))};
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);
@@ -266,8 +193,9 @@ class StepImporter final : public vaw::MeshImporter {
     const auto checkTime = [&] {
       if (elapsed() > options.timeoutSeconds) {
         child.kill();
-        vaw::fail(name, "", "a STEP file Open CASCADE reads within " + seconds(options.timeoutSeconds) + " s",
-                  "still reading after " + seconds(options.timeoutSeconds) + " s: " + stage);
+        vaw::fail(name, "", "a STEP file Open CASCADE reads within the time limit of " + seconds(options.timeoutSeconds) + " s",
+                  "still reading after " + seconds(options.timeoutSeconds) + " s, at \"" + stage +
+                      "\" (a large file may need longer: raise the limit with File > STEP Settings or vaw-sim --timeout S)");
       }
     };
     report();
@@ -315,17 +243,19 @@ class StepImporter final : public vaw::MeshImporter {
       vaw::fail(name, "", "a STEP file Open CASCADE can read",
                 "the reader crashed (" + signalName(WTERMSIG(status)) + ") while " + stage);
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (code == 3) {
+    // The reader's result: the assembly, or its named error about the file.
+    const auto readResult = [&] {
       std::ifstream in(result, std::ios::binary);
-      if (in) {
-        try {
-          const json j = json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
-          const json& e = j.at("error");
-          vaw::fail(name, e.at("field").get<std::string>(), e.at("expected").get<std::string>(),
-                    e.at("found").get<std::string>());
-        } catch (const json::exception&) {
-          // Fall back to the stderr line below.
-        }
+      if (!in) throw vaw::step::MalformedResult("the reader wrote no result");
+      const std::vector<std::uint8_t> bytes(std::istreambuf_iterator<char>(in), {});
+      return vaw::step::parseResult(bytes);
+    };
+    if (code == 3) {
+      try {
+        const auto r = readResult();
+        if (const auto* bad = std::get_if<vaw::step::ReaderError>(&r)) vaw::fail(name, bad->field, bad->expected, bad->found);
+      } catch (const vaw::step::MalformedResult&) {
+        // The reader's stderr line below still says what is wrong.
       }
       vaw::fail(name, "", "a STEP file Open CASCADE can read", lastLine(errors));
     }
@@ -338,21 +268,13 @@ class StepImporter final : public vaw::MeshImporter {
                 "the reader failed (exit code " + std::to_string(code) + ")" + (why.empty() ? "" : ": " + why));
     }
 
-    std::ifstream in(result, std::ios::binary);
-    if (!in) vaw::fail(name, "", "a STEP file Open CASCADE can read", "the reader wrote no result");
-    vaw::ImportedMesh out;
     try {
-      const json j = json::from_cbor(std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {}));
-      std::vector<std::shared_ptr<const vaw::CadSolid>> solids;
-      for (const json& s : j.at("solids")) solids.push_back(solidFrom(s));
-      out.root = nodeFrom(j.at("root"), solids);
-      out.warnings = j.value("warnings", std::vector<std::string>{});
-      out.format = j.value("format", std::string("STEP"));
-      if (j.contains("unit")) out.declaredUnit = j.at("unit").get<std::string>();
-    } catch (const std::exception& e) {
+      auto r = readResult();
+      if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) return std::move(*assembly);
+      throw vaw::step::MalformedResult("an error about the file, yet the reader exited 0");
+    } catch (const vaw::step::MalformedResult& e) {
       vaw::fail(name, "", "a STEP file Open CASCADE can read", std::string("an unreadable result from the reader: ") + e.what());
     }
-    return out;
   }
 };
 

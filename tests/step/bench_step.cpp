@@ -6,7 +6,11 @@
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 
+#include "step_first_pass.hpp"
 #include "step_fixtures.hpp"
 #include "vaw/cad_assembly.hpp"
 #include "vaw/constraint_recognition.hpp"
@@ -117,6 +121,36 @@ void BM_GeometricPrecedence(benchmark::State& state) {
 
 }  // namespace
 
+std::string readText(const fs::path& f) {
+  std::ifstream in(f, std::ios::binary);
+  std::ostringstream all;
+  all << in.rdbuf();
+  return all.str();
+}
+
+// The reader's first pass over a file's text (plugins/step/step_first_pass.hpp): 0 the sample, 1 the
+// 100-product assembly, 2 the sample with its first NEXT_ASSEMBLY_USAGE_OCCURRENCE 20,000 times over
+// (refused).
+void BM_StepFirstPass(benchmark::State& state) {
+  std::string text = readText(state.range(0) == 1 ? manyParts(true) : sample());
+  if (state.range(0) == 2) {
+    const std::size_t use = text.find("NEXT_ASSEMBLY_USAGE_OCCURRENCE(");
+    const std::size_t start = text.rfind("\n#", use) + 1, end = text.find(";\n", use) + 2;
+    const std::string body = text.substr(text.find('=', start), end - text.find('=', start));
+    std::string bomb = text.substr(0, end);
+    for (int i = 0; i < 20000; ++i) bomb += "#" + std::to_string(900000 + i) + " " + body;
+    text = bomb + text.substr(end);
+  }
+  for (auto _ : state) {
+    try {
+      benchmark::DoNotOptimize(vaw::step::firstPass(text));
+    } catch (const vaw::step::FirstPassRefusal&) {
+    }
+  }
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(text.size()));
+}
+
+BENCHMARK(BM_StepFirstPass)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -325,7 +325,7 @@ TEST(Dfa, TheBracketsPartsGetTheChartsCodes) {
 #include <regex>
 #include <sstream>
 
-#include "vaw/evaluation/report.hpp"
+#include "vaw/report/report.hpp"
 
 namespace {
 
@@ -369,7 +369,7 @@ TEST(Report, TheHtmlShowsTheCsvsNumbersInChromium) {
   second.stats.label = "P02";
   // In the build tree, so that the screenshot stays to be looked at.
   const fs::path dir = fs::absolute("report-bolted-bracket");
-  const auto files = vaw::eval::writeReport(a, plan, {first.stats, second.stats}, dir);
+  const auto files = vaw::report::writeReport(a, plan, {first.stats, second.stats}, dir);
   ASSERT_TRUE(fs::exists(files.html));
 
   const std::string chromium = "/usr/bin/chromium";
@@ -415,8 +415,8 @@ TEST(Report, TheHtmlShowsTheCsvsNumbersInChromium) {
   // And the CSV holds what the sessions measured: nut-2's time to place, both participants alike.
   for (const auto& c : csv)
     if (c[0] == "nut-2") {
-      EXPECT_EQ(c[12], vaw::eval::formatNumber(*first.stats.find(id(a, "nut-2"))->timeToPlace()));
-      EXPECT_EQ(c[13], vaw::eval::formatNumber(0.0));
+      EXPECT_EQ(c[12], vaw::report::formatNumber(*first.stats.find(id(a, "nut-2"))->timeToPlace()));
+      EXPECT_EQ(c[13], vaw::report::formatNumber(0.0));
       EXPECT_EQ(c[11], "2");
     }
 }

@@ -33,6 +33,8 @@ struct ImportOptions {
   // A CAD reader's address-space limit, MB; past it the reader ends with a named error. 0: half the
   // machine's memory.
   double readerMemoryMB = 0.0;
+  // Part instances a CAD file may declare (its assembly tree expanded); more is refused before reading.
+  double maxInstances = 10000;
 };
 
 // The exact geometry a CAD importer knows about one face of a solid, in the solid's own frame, metres.
@@ -108,7 +110,8 @@ class MeshImporter {
 
 // A plugin exports these two C symbols. The ABI version guards against loading a plugin built
 // against a different interface.
-inline constexpr int kImporterAbiVersion = 3;  // 2: ImportOptions and CAD assemblies; 3: the reader's memory limit
+// 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit
+inline constexpr int kImporterAbiVersion = 4;
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();

@@ -1,7 +1,7 @@
 #pragma once
 // Pictures for the evaluation report, drawn without a display or a GPU so that `vaw-sim evaluate --report`
 // runs anywhere: the parts' triangles through a depth buffer from one fixed view above the front right,
-// flat shaded, written as PNG (zlib) and embedded in the page as base64. Private to the core's sources.
+// flat shaded, written as PNG (zlib) and embedded in the page as base64. Private to the report library.
 #include <Eigen/Geometry>
 #include <cstdint>
 #include <string>
@@ -9,7 +9,7 @@
 
 #include "vaw/mesh.hpp"
 
-namespace vaw::eval::detail {
+namespace vaw::report::detail {
 
 struct Drawn {
   const TriMesh* mesh = nullptr;
@@ -40,4 +40,4 @@ class Picture {
 
 std::string base64(const std::string& bytes);
 
-}  // namespace vaw::eval::detail
+}  // namespace vaw::report::detail

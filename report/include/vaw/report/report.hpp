@@ -1,5 +1,6 @@
 #pragma once
-// The evaluation report (docs/evaluation.md, "The report"): one self-contained HTML page (pictures of the
+// The evaluation report (docs/evaluation.md, "The report"): presentation of what the core's evaluation
+// found, in a library of its own (docs/architecture.md) that `vaw-sim evaluate` and the window link. One self-contained HTML page (pictures of the
 // assembly and of each step of the order, the tables, the chart of time per part, each session's timeline)
 // that opens in a browser with nothing else installed, and the same numbers as CSV and JSON. Every file is
 // written through vaw::AtomicFile and published together, so a failed write leaves the previous report.
@@ -11,8 +12,14 @@
 #include "vaw/evaluation/dfa.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/evaluation/session_stats.hpp"
+#include "vaw/importer.hpp"
 
-namespace vaw::eval {
+namespace vaw::report {
+
+using eval::DfaEstimate;
+using eval::SequencePlan;
+using eval::SessionStats;
+using eval::Spread;
 
 // One part's line of the parts table, as the HTML, parts.csv and evaluation.json all give it.
 struct PartRow {
@@ -38,8 +45,10 @@ struct ReportFiles {
 };
 
 // Writes report.html, parts.csv, sequence.csv, sessions.csv and evaluation.json into `dir` (created when
-// missing). Throws vaw::OutputError naming the file when one cannot be written.
+// missing). Throws vaw::OutputError naming the file when one cannot be written. `progress` hears of each
+// picture drawn; when it returns false the report is abandoned (vaw::LoadCancelled) before any file is
+// written.
 ReportFiles writeReport(const Assembly& assembly, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir);
+                        const std::filesystem::path& dir, const ProgressFn& progress = {});
 
-}  // namespace vaw::eval
+}  // namespace vaw::report

@@ -1,4 +1,4 @@
-#include "vaw/evaluation/report.hpp"
+#include "vaw/report/report.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,8 +9,12 @@
 
 #include "picture.hpp"
 #include "vaw/atomic_file.hpp"
+#include "vaw/error.hpp"
 
-namespace vaw::eval {
+namespace vaw::report {
+
+// The evaluation's plans, checks and sessions are what this page shows.
+using namespace vaw::eval;
 
 namespace {
 
@@ -242,7 +246,7 @@ std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const
 }
 
 ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir) {
+                        const std::filesystem::path& dir, const ProgressFn& progress) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw OutputError(dir.string() + ": cannot create the report folder: " + ec.message());
@@ -335,10 +339,18 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
        (plan.complete() ? "An order puts every part in place."
                         : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
        " " + std::to_string(plan.order.size()) + " parts in the order, base " + html(a.parts[*plan.base].name) + ".</p>\n";
+  const std::size_t pictured = std::min<std::size_t>(plan.order.size(), 40);
+  // A picture takes a fraction of a second; the caller may stop between two (nothing is written yet).
+  const auto drawn = [&](std::size_t count) {
+    if (progress && !progress(static_cast<double>(count) / static_cast<double>(pictured + 1),
+                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(pictured + 1)))
+      throw LoadCancelled();
+  };
+  drawn(0);
   h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, box, std::nullopt, 640, 440) + "'>\n";
   h += "<h2>Order</h2>\n<div class='steps'>\n";
-  const std::size_t pictured = std::min<std::size_t>(plan.order.size(), 40);
   for (std::size_t i = 0; i < pictured; ++i) {
+    drawn(i + 1);
     const PartId p = plan.order[i];
     const Direction* way = plan.wayOf(p);
     h += "<figure><img alt='step " + std::to_string(plan.step[i]) + "' width='320' height='220' src='" + picture(a, plan, box, i, 320, 220) +
@@ -419,4 +431,4 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   return files;
 }
 
-}  // namespace vaw::eval
+}  // namespace vaw::report

@@ -7,7 +7,7 @@
 #include <limits>
 #include <stdexcept>
 
-namespace vaw::eval::detail {
+namespace vaw::report::detail {
 
 Picture::Picture(int width, int height, const Eigen::AlignedBox3d& bounds)
     : w_(width), h_(height), depth_(static_cast<std::size_t>(width * height), std::numeric_limits<float>::infinity()),
@@ -151,4 +151,4 @@ std::string base64(const std::string& bytes) {
   return out;
 }
 
-}  // namespace vaw::eval::detail
+}  // namespace vaw::report::detail

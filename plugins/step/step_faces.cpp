@@ -1,0 +1,160 @@
+// vaw-step-import: each face of a solid as vaw needs it (step_reader.hpp): plane, cylinder (analytic, or a
+// B-spline that is one within tolerance) or other, with its outward side and axial extent.
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepGProp.hxx>
+#include <BRepLProp_SLProps.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <GProp_GProps.hxx>
+#include <GeomLProp_SLProps.hxx>
+#include <GeomLib_IsPlanarSurface.hxx>
+#include <Geom_Surface.hxx>
+#include <TopoDS_Face.hxx>
+#include <gp_Cylinder.hxx>
+#include <gp_Pln.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <vector>
+
+#include "step_reader.hpp"
+
+namespace vaw::step::reader {
+
+namespace {
+
+// The material's outward normal at the middle of the face's parameter range.
+std::optional<gp_Dir> outwardNormal(const TopoDS_Face& face, const BRepAdaptor_Surface& surface) {
+  Standard_Real u1, u2, v1, v2;
+  BRepTools::UVBounds(face, u1, u2, v1, v2);
+  BRepLProp_SLProps props(surface, 0.5 * (u1 + u2), 0.5 * (v1 + v2), 1, 1e-9);
+  if (!props.IsNormalDefined()) return std::nullopt;
+  gp_Dir n = props.Normal();
+  if (face.Orientation() == TopAbs_REVERSED) n.Reverse();
+  return n;
+}
+
+struct CylinderFit {
+  gp_Pnt axisPoint;
+  gp_Dir axis;
+  double radius;
+};
+
+double distanceToAxis(const gp_Pnt& p, const gp_Pnt& a, const gp_Dir& d) {
+  const gp_Vec v(a, p);
+  return v.Crossed(gp_Vec(d)).Magnitude();
+}
+
+// A free-form surface that is a cylinder within `tol`: the axis from the principal curvatures at the
+// middle, then every point of a grid over the face's parameter range within `tol` of that cylinder.
+// (OCCT 7.6 has no GeomConvert_SurfToAnaSurf.)
+std::optional<CylinderFit> recogniseCylinder(const Handle(Geom_Surface) & s, double u1, double u2, double v1, double v2,
+                                             double tol) {
+  GeomLProp_SLProps mid(s, 0.5 * (u1 + u2), 0.5 * (v1 + v2), 2, 1e-9);
+  if (!mid.IsCurvatureDefined()) return std::nullopt;
+  const double kMax = mid.MaxCurvature(), kMin = mid.MinCurvature();
+  const bool maxIsRound = std::abs(kMax) >= std::abs(kMin);
+  const double k = maxIsRound ? kMax : kMin;
+  if (std::abs(k) < 1e-12) return std::nullopt;
+  gp_Dir dMax, dMin;
+  mid.CurvatureDirections(dMax, dMin);
+  const gp_Dir axis = maxIsRound ? dMin : dMax;
+  const double r = 1.0 / std::abs(k);
+  const gp_Pnt p = mid.Value();
+  const gp_Vec n(mid.Normal());
+  for (const double sign : {1.0, -1.0}) {
+    const gp_Pnt a = p.Translated(n * (sign * r));
+    bool fits = true;
+    constexpr int kSteps = 8;
+    for (int i = 0; i <= kSteps && fits; ++i)
+      for (int j = 0; j <= kSteps && fits; ++j) {
+        const gp_Pnt q = s->Value(u1 + (u2 - u1) * i / kSteps, v1 + (v2 - v1) * j / kSteps);
+        fits = std::abs(distanceToAxis(q, a, axis) - r) <= tol;
+      }
+    if (fits) return CylinderFit{a, axis, r};
+  }
+  return std::nullopt;
+}
+
+// The face's extent along the axis, from its triangulation (nodes on its boundary are on the true edges).
+void axialExtent(FaceOut& f, const std::vector<gp_Pnt>& nodes) {
+  double lo = 1e300, hi = -1e300;
+  const gp_Vec d(f.direction);
+  for (const gp_Pnt& q : nodes) {
+    const double t = gp_Vec(f.point, q).Dot(d);
+    lo = std::min(lo, t);
+    hi = std::max(hi, t);
+  }
+  if (lo <= hi) f.axialMin = lo, f.axialMax = hi;
+}
+
+void setCylinder(FaceOut& f, const gp_Pnt& axisPoint, const gp_Dir& axis, double radius, const std::optional<gp_Dir>& outward,
+                 const gp_Pnt& onSurface) {
+  f.surface = vaw::step::SurfaceKind::Cylinder;
+  f.point = axisPoint;
+  f.direction = axis;
+  f.radius = radius;
+  // Material inside (a shaft) when the outward normal points away from the axis.
+  gp_Vec radial(axisPoint, onSurface);
+  radial -= gp_Vec(axis) * radial.Dot(gp_Vec(axis));
+  f.convex = !outward || radial.Dot(gp_Vec(*outward)) >= 0.0;
+}
+
+}  // namespace
+
+FaceOut classify(const TopoDS_Face& face, double tol, const std::vector<gp_Pnt>& nodes) {
+  FaceOut f;
+  GProp_GProps sp;
+  BRepGProp::SurfaceProperties(face, sp, 1e-9);
+  f.area = sp.Mass();
+  const gp_Pnt centre = sp.CentreOfMass();
+  const BRepAdaptor_Surface surface(face, true);
+  const std::optional<gp_Dir> outward = outwardNormal(face, surface);
+  Standard_Real u1, u2, v1, v2;
+  BRepTools::UVBounds(face, u1, u2, v1, v2);
+  const gp_Pnt mid = surface.Value(0.5 * (u1 + u2), 0.5 * (v1 + v2));
+  switch (surface.GetType()) {
+    case GeomAbs_Plane: {
+      const gp_Pln pl = surface.Plane();
+      f.surface = vaw::step::SurfaceKind::Plane;
+      gp_Dir n = pl.Axis().Direction();
+      if (outward && gp_Vec(n).Dot(gp_Vec(*outward)) < 0) n.Reverse();
+      f.direction = n;
+      // The face's centroid is on the plane; the plane's own origin may be far from the part.
+      f.point = centre;
+      return f;
+    }
+    case GeomAbs_Cylinder: {
+      const gp_Cylinder c = surface.Cylinder();
+      setCylinder(f, c.Location(), c.Axis().Direction(), c.Radius(), outward, mid);
+      axialExtent(f, nodes);
+      return f;
+    }
+    case GeomAbs_Cone:
+    case GeomAbs_Sphere:
+    case GeomAbs_Torus: return f;  // analytic, and neither a plane nor a cylinder
+    default: break;
+  }
+  // Free-form: some exporters write every face as a B-spline.
+  const Handle(Geom_Surface) s = BRep_Tool::Surface(face);
+  if (s.IsNull()) return f;
+  GeomLib_IsPlanarSurface planar(s, tol);
+  if (planar.IsPlanar()) {
+    f.surface = vaw::step::SurfaceKind::Plane;
+    f.fromSpline = true;
+    gp_Dir n = planar.Plan().Axis().Direction();
+    if (outward && gp_Vec(n).Dot(gp_Vec(*outward)) < 0) n.Reverse();
+    f.direction = n;
+    f.point = centre;
+    return f;
+  }
+  if (const auto cyl = recogniseCylinder(s, u1, u2, v1, v2, tol)) {
+    setCylinder(f, cyl->axisPoint, cyl->axis, cyl->radius, outward, mid);
+    f.fromSpline = true;
+    axialExtent(f, nodes);
+  }
+  return f;
+}
+
+}  // namespace vaw::step::reader

@@ -1,0 +1,202 @@
+// vaw-step-import, the solids (step_reader.hpp): each product's solids kept or skipped with the reason,
+// their exact mass properties (adaptive Gauss integration, 1e-9), their tessellation, and their faces
+// classified (step_faces.cpp), in metres.
+#include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepGProp.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
+#include <Poly_Triangulation.hxx>
+#include <Quantity_Color.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Solid.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "step_reader.hpp"
+#include "step_result.hpp"
+
+namespace vaw::step::reader {
+
+json colorJson(const Quantity_Color& c) {
+  Standard_Real r, g, b;
+  c.Values(r, g, b, Quantity_TOC_RGB);
+  return json::array({r, g, b});
+}
+
+namespace {
+
+template <typename T>
+json blob(const std::vector<T>& v) {
+  std::vector<std::uint8_t> bytes(v.size() * sizeof(T));
+  if (!v.empty()) std::memcpy(bytes.data(), v.data(), bytes.size());
+  return json::binary(std::move(bytes));
+}
+
+json point(const gp_XYZ& p, double scale) { return json::array({p.X() * scale, p.Y() * scale, p.Z() * scale}); }
+
+}  // namespace
+
+void Reader::skip(Product& p, const std::string& why) { warnings_.push_back("\"" + p.name + "\": skipped, " + why); }
+
+// Tessellates and measures one product's solids in its own frame; leaves p.solid null (with a warning)
+// when it has none worth simulating.
+void Reader::measure(Product& p) {
+  const TopoDS_Shape shape = XCAFDoc_ShapeTool::GetShape(p.label);
+  if (shape.IsNull()) return skip(p, "no solid (empty representation)");
+  std::vector<TopoDS_Solid> solids;
+  for (TopExp_Explorer e(shape, TopAbs_SOLID); e.More(); e.Next()) solids.push_back(TopoDS::Solid(e.Current()));
+  std::size_t openShells = 0, looseFaces = 0, edges = 0;
+  for (TopExp_Explorer e(shape, TopAbs_SHELL, TopAbs_SOLID); e.More(); e.Next()) {
+    const TopoDS_Shell shell = TopoDS::Shell(e.Current());
+    if (BRep_Tool::IsClosed(shell)) {
+      // A closed shell is a solid the exporter did not wrap.
+      BRepBuilderAPI_MakeSolid make(shell);
+      if (make.IsDone()) solids.push_back(make.Solid());
+    } else {
+      ++openShells;
+    }
+  }
+  for (TopExp_Explorer e(shape, TopAbs_FACE, TopAbs_SHELL); e.More(); e.Next()) ++looseFaces;
+  for (TopExp_Explorer e(shape, TopAbs_EDGE, TopAbs_FACE); e.More(); e.Next()) ++edges;
+  if (solids.empty()) {
+    if (openShells + looseFaces > 0) return skip(p, "no solid (an open shell or loose faces, not a closed volume)");
+    if (edges > 0) return skip(p, "no solid (wireframe representation)");
+    return skip(p, "no solid (empty representation)");
+  }
+
+  GProp_GProps mass;
+  BRep_Builder builder;
+  TopoDS_Compound kept;
+  builder.MakeCompound(kept);
+  std::size_t keptCount = 0;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const std::string which =
+        solids.size() > 1 ? "solid " + std::to_string(i + 1) + " of \"" + p.name + "\"" : "\"" + p.name + "\"";
+    bool open = false;
+    for (TopExp_Explorer e(solids[i], TopAbs_SHELL); e.More(); e.Next()) open = open || !BRep_Tool::IsClosed(e.Current());
+    if (open) {
+      warnings_.push_back(which + ": skipped, its shell is not closed");
+      continue;
+    }
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(solids[i], props, 1e-9);
+    if (!(std::isfinite(props.Mass()) && props.Mass() > 0.0)) {
+      warnings_.push_back(which + ": skipped, volume " + std::to_string(props.Mass()) + " mm^3 is not positive and finite");
+      continue;
+    }
+    mass.Add(props);
+    builder.Add(kept, solids[i]);
+    ++keptCount;
+  }
+  if (keptCount == 0) return;
+
+  Bnd_Box box;
+  BRepBndLib::Add(kept, box);
+  if (box.IsVoid()) return skip(p, "empty bounding box");
+  Standard_Real x0, y0, z0, x1, y1, z1;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  for (const double v : {x0, y0, z0, x1, y1, z1})
+    if (!std::isfinite(v) || std::abs(v) > 1e12) return skip(p, "its bounding box is not finite");
+  const double diagonal = gp_Pnt(x0, y0, z0).Distance(gp_Pnt(x1, y1, z1));
+  const double deflection = std::max(relativeDeflection_ * diagonal, 1e-7);
+  BRepMesh_IncrementalMesh mesher(kept, deflection, false, angularDeflection_, false);
+
+  std::vector<double> vertices;
+  std::vector<std::int32_t> triangles;
+  json faces = json::array();
+  double area = 0.0;
+  std::size_t unmeshed = 0;
+  const double tol = 1e-6 * diagonal;
+  for (TopExp_Explorer e(kept, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face face = TopoDS::Face(e.Current());
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+    std::vector<gp_Pnt> nodes;
+    const std::size_t first = triangles.size() / 3;
+    if (tri.IsNull()) {
+      ++unmeshed;
+    } else {
+      const gp_Trsf t = loc.Transformation();
+      const auto base = static_cast<std::int32_t>(vertices.size() / 3);
+      nodes.reserve(static_cast<std::size_t>(tri->NbNodes()));
+      for (Standard_Integer i = 1; i <= tri->NbNodes(); ++i) {
+        const gp_Pnt q = tri->Node(i).Transformed(t);
+        nodes.push_back(q);
+        vertices.insert(vertices.end(), {q.X() * kMetre, q.Y() * kMetre, q.Z() * kMetre});
+      }
+      const bool reversed = face.Orientation() == TopAbs_REVERSED;
+      for (Standard_Integer i = 1; i <= tri->NbTriangles(); ++i) {
+        Standard_Integer a, b, c;
+        tri->Triangle(i).Get(a, b, c);
+        if (reversed) std::swap(b, c);
+        triangles.insert(triangles.end(), {base + a - 1, base + b - 1, base + c - 1});
+      }
+    }
+    FaceOut f = classify(face, tol, nodes);
+    area += f.area;
+    json jf = {
+        {"surface", static_cast<int>(f.surface)}, {"area", f.area * kMetre * kMetre}, {"first", first}, {"count", triangles.size() / 3 - first}};
+    if (f.surface != vaw::step::SurfaceKind::Other) {
+      jf["point"] = point(f.point.XYZ(), kMetre);
+      jf["direction"] = point(f.direction.XYZ(), 1.0);
+      if (f.fromSpline) jf["fromSpline"] = true;
+    }
+    if (f.surface == vaw::step::SurfaceKind::Cylinder) {
+      jf["radius"] = f.radius * kMetre;
+      jf["convex"] = f.convex;
+      jf["axialMin"] = f.axialMin * kMetre;
+      jf["axialMax"] = f.axialMax * kMetre;
+    }
+    faces.push_back(std::move(jf));
+  }
+  if (unmeshed > 0)
+    warnings_.push_back("\"" + p.name + "\": " + std::to_string(unmeshed) +
+                        " faces could not be tessellated (holes in its mesh)");
+
+  const gp_Mat I = mass.MatrixOfInertia();
+  json inertia = json::array();
+  // OCCT's matrix is for density 1 in mm^5; vaw's in m^5.
+  for (int r = 1; r <= 3; ++r)
+    for (int c = 1; c <= 3; ++c) inertia.push_back(I.Value(r, c) * 1e-15);
+  p.solid = {{"product", p.name},
+             {"volume", mass.Mass() * 1e-9},
+             {"centroid", point(mass.CentreOfMass().XYZ(), kMetre)},
+             {"inertia", std::move(inertia)},
+             {"area", area * kMetre * kMetre},
+             {"deflection", deflection * kMetre},
+             {"vertices", blob(vertices)},
+             {"triangles", blob(triangles)},
+             {"faces", std::move(faces)}};
+  if (const auto c = colorOf(p.label)) {
+    p.solid["color"] = colorJson(*c);
+  } else if (const auto s = shapeColor(kept)) {
+    p.solid["color"] = colorJson(*s);
+  }
+}
+
+// Some exporters colour the solid (a sub-shape label), not the product.
+std::optional<Quantity_Color> Reader::shapeColor(const TopoDS_Shape& kept) const {
+  for (TopExp_Explorer e(kept, TopAbs_SOLID); e.More(); e.Next()) {
+    Quantity_Color c;
+    if (colors_->GetColor(e.Current(), XCAFDoc_ColorSurf, c) || colors_->GetColor(e.Current(), XCAFDoc_ColorGen, c)) return c;
+  }
+  return std::nullopt;
+}
+
+}  // namespace vaw::step::reader
