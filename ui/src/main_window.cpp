@@ -5,6 +5,7 @@
 #include <QSettings>
 #include <QStatusBar>
 #include <QUndoStack>
+#include <cmath>
 
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
@@ -42,14 +43,19 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     QSettings settings;
     restoreGeometry(settings.value(QStringLiteral("window/geometry")).toByteArray());
     restoreState(settings.value(QStringLiteral("window/state")).toByteArray());
-    // The STEP tessellation chosen in an earlier run (File > STEP Tessellation).
-    bool ok = false;
-    const double deflection = settings.value(QStringLiteral("import/relativeDeflection")).toDouble(&ok);
-    if (ok && deflection > 0.0) {
-      vaw::LoadOptions options = controller_.loadOptions();
-      options.import.relativeDeflection = deflection;
-      controller_.setLoadOptions(options);
-    }
+    // The STEP settings chosen in an earlier run (File > STEP Settings); a value that is not a positive
+    // number keeps the default.
+    vaw::LoadOptions options = controller_.loadOptions();
+    const auto restore = [&settings](const char* key, double& value, double least) {
+      bool ok = false;
+      const double v = settings.value(QString::fromLatin1(key)).toDouble(&ok);
+      if (ok && std::isfinite(v) && v >= least) value = v;
+    };
+    restore("import/relativeDeflection", options.import.relativeDeflection, 1e-5);
+    restore("import/timeoutSeconds", options.import.timeoutSeconds, 1.0);
+    restore("import/readerMemoryMB", options.import.readerMemoryMB, 0.0);
+    restore("import/maxInstances", options.import.maxInstances, 1.0);
+    controller_.setLoadOptions(options);
   }
   liveTimer_.setSingleShot(true);
   connect(&liveTimer_, &QTimer::timeout, this, &MainWindow::updateLive);
@@ -121,7 +127,13 @@ void MainWindow::createDocks() {
   resizeDocks({timelineDock_}, {190}, Qt::Vertical);
 }
 
-MainWindow::~MainWindow() { simulation_->pause(); }
+MainWindow::~MainWindow() {
+  simulation_->pause();
+  // The report's worker posts its progress to this window: it stops before the window goes.
+  if (reportCancel_) reportCancel_->store(true);
+  reportWatcher_.disconnect(this);
+  reportWatcher_.waitForFinished();
+}
 
 void MainWindow::message(int severity, const QString& text, const QString& detail) {
   messagesDock_->model()->add(static_cast<MessageLogModel::Severity>(severity), text, detail);

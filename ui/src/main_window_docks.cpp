@@ -192,6 +192,7 @@ void MainWindow::wireConstraints() {
 }
 
 void MainWindow::wireSequence() {
+  connect(&reportWatcher_, &QFutureWatcher<ReportOutcome>::finished, this, &MainWindow::reportFinished);
   // A row selects its part as the scene tree does: through the viewport, whose selection every view follows.
   connect(sequenceDock_, &SequenceDock::partSelected, viewport_, &Viewport::selectPart);
   connect(viewport_, &Viewport::partSelected, sequenceDock_, &SequenceDock::selectPart);
@@ -208,6 +209,11 @@ void MainWindow::wireSequence() {
     statusBar()->showMessage(text, 15000);
   };
   connect(sequenceDock_, &SequenceDock::orderFailed, this, notWritten);
+  // A report asked for while an outdated search still ran waits for a search of the scene loaded now, not
+  // for whichever search ends next.
+  connect(sequenceDock_, &SequenceDock::searchOutdated, this, [this] {
+    if (!pendingReport_.isEmpty() && !sequenceDock_->finding()) sequenceDock_->findOrder();
+  });
   connect(&controller_, &AssemblyController::assemblyLoaded, this,
           [notWritten] { notWritten(tr("the assembly was opened again or changed")); });
 }

@@ -8,18 +8,26 @@
 #include <QFile>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QInputDialog>
+#include <QDialog>
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
 #include <QMessageBox>
 #include <QMimeData>
+#include <QProgressDialog>
 #include <QSettings>
 #include <QStatusBar>
 #include <QUndoStack>
 #include <QUrl>
+#include <QtConcurrent/QtConcurrentRun>
+#include <algorithm>
+#include <chrono>
 #include <filesystem>
+#include <thread>
 
 #include "format.hpp"
 #include "vaw/error.hpp"
-#include "vaw/evaluation/report.hpp"
+#include "vaw/report/report.hpp"
 #include "vaw/evaluation/session_stats.hpp"
 #include "vaw/sim/scene_file.hpp"
 #include "vaw/sim/session.hpp"
@@ -133,26 +141,68 @@ void MainWindow::dropEvent(QDropEvent* event) {
   openFile(urls.front().toLocalFile());
 }
 
-void MainWindow::stepDeflectionDialog() {
-  bool ok = false;
-  const double value = QInputDialog::getDouble(
-      this, tr("STEP tessellation"),
-      tr("Chordal deflection as a fraction of each part's size\n(smaller is finer: more triangles, slower collision)"),
-      controller_.loadOptions().import.relativeDeflection, 0.0001, 0.05, 4, &ok);
-  if (ok) setStepDeflection(value);
+// File > STEP Settings: the tessellation and the reader's limits in one form; OK applies and keeps them.
+void MainWindow::stepSettingsDialog() {
+  const vaw::ImportOptions current = controller_.loadOptions().import;
+  QDialog dialog(this);
+  dialog.setWindowTitle(tr("STEP settings"));
+  auto* form = new QFormLayout(&dialog);
+  const auto field = [&](const char* name, const QString& label, int decimals, double least, double most, double value,
+                         const QString& suffix, const QString& tip) {
+    auto* box = new QDoubleSpinBox(&dialog);
+    box->setObjectName(QString::fromLatin1(name));
+    box->setDecimals(decimals);
+    box->setRange(least, most);
+    box->setSuffix(suffix);
+    box->setValue(value);
+    box->setToolTip(tip);
+    form->addRow(label, box);
+    return box;
+  };
+  auto* deflection = field("stepDeflection", tr("Tessellation (fraction of part size)"), 4, 0.0001, 0.05, current.relativeDeflection, {},
+                           tr("Chordal deflection as a fraction of each part's size: smaller is finer (more triangles, slower collision)"));
+  deflection->setSingleStep(0.0005);
+  auto* timeout = field("stepTimeout", tr("Time limit"), 0, 5, 86400, current.timeoutSeconds, tr(" s"),
+                        tr("A file Open CASCADE has not read by then is given up with an error"));
+  auto* memory = field("stepMemory", tr("Reader memory"), 0, 0, 1e7, current.readerMemoryMB, tr(" MB"),
+                       tr("The reader's memory limit: a file that needs more ends with an error, never the window"));
+  memory->setSpecialValueText(tr("half the machine's memory"));
+  auto* instances = field("stepMaxInstances", tr("Most part instances"), 0, 1, 1e9, current.maxInstances, {},
+                          tr("Part instances a file may declare, its assembly tree expanded; more is refused before reading"));
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, &dialog);
+  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  form->addRow(buttons);
+  if (dialog.exec() != QDialog::Accepted) return;
+  vaw::ImportOptions chosen = current;
+  chosen.relativeDeflection = deflection->value();
+  chosen.timeoutSeconds = timeout->value();
+  chosen.readerMemoryMB = memory->value();
+  chosen.maxInstances = instances->value();
+  setStepSettings(chosen);
 }
 
-void MainWindow::setStepDeflection(double relative) {
+void MainWindow::setStepSettings(const vaw::ImportOptions& import) {
   vaw::LoadOptions options = controller_.loadOptions();
-  options.import.relativeDeflection = relative;
+  const bool finer = options.import.relativeDeflection != import.relativeDeflection;
+  options.import = import;
   controller_.setLoadOptions(options);
-  QSettings().setValue(QStringLiteral("import/relativeDeflection"), relative);
-  const vaw::Assembly* a = controller_.assembly();
-  const QString text = tr("STEP tessellation: deflection %1 of each part's size").arg(relative);
+  QSettings settings;
+  settings.setValue(QStringLiteral("import/relativeDeflection"), import.relativeDeflection);
+  settings.setValue(QStringLiteral("import/timeoutSeconds"), import.timeoutSeconds);
+  settings.setValue(QStringLiteral("import/readerMemoryMB"), import.readerMemoryMB);
+  settings.setValue(QStringLiteral("import/maxInstances"), import.maxInstances);
+  const QString text = tr("STEP: tessellation %1 of each part's size, time limit %2 s, reader memory %3, at most %4 part instances")
+                           .arg(import.relativeDeflection)
+                           .arg(import.timeoutSeconds)
+                           .arg(import.readerMemoryMB > 0.0 ? tr("%1 MB").arg(import.readerMemoryMB) : tr("half the machine's"))
+                           .arg(import.maxInstances);
   message(static_cast<int>(MessageLogModel::Severity::Info), text);
   statusBar()->showMessage(text, 8000);
-  // The open STEP assembly is tessellated anew, asking first about unsaved changes.
-  if (a != nullptr && !a->cadFile.empty() && maybeSave()) controller_.reload();
+  // A new tessellation reads the open STEP assembly anew, asking first about unsaved changes; the limits
+  // only matter for the next file.
+  const vaw::Assembly* a = controller_.assembly();
+  if (finer && a != nullptr && !a->cadFile.empty() && maybeSave()) controller_.reload();
 }
 
 bool MainWindow::save() {
@@ -286,23 +336,100 @@ void MainWindow::exportReport(const QString& dir) {
 
 void MainWindow::writeReport(const QString& dir) {
   const vaw::eval::SequencePlan* plan = sequenceDock_->plan();
-  if (plan == nullptr || !controller_.scene()) return;
-  std::vector<vaw::eval::SessionStats> sessions;
-  QString text;
-  try {
-    // The session replayed on the scene it was recorded on: a trial's scale is not the scene's.
-    if (simulation_->hasWorld() && simulation_->recorder().length() > 0)
-      sessions.push_back(vaw::eval::sessionStats(simulation_->recorder().scenePtr(), simulation_->recorder().session(),
-                                                 tr("this session").toStdString()));
-    const vaw::eval::ReportFiles files = vaw::eval::writeReport(controller_.scene()->assembly(), *plan, sessions,
-                                                                std::filesystem::path(QFile::encodeName(dir).toStdString()));
-    text = tr("Wrote the report to %1").arg(QFile::decodeName(files.html.string().c_str()));
-    message(static_cast<int>(MessageLogModel::Severity::Info), text,
-            sessions.empty() ? tr("No session: nothing was simulated yet.")
-                             : tr("With this session (%1 s).").arg(format::number(sessions.front().duration_s)));
-  } catch (const std::exception& e) {  // vaw::OutputError naming the file; a failed replay too
-    text = tr("Could not write the report into %1: %2").arg(dir, QString::fromUtf8(e.what()));
+  std::shared_ptr<const vaw::sim::Scene> scene = controller_.scene();
+  if (plan == nullptr || !scene) return;
+  if (writingReport()) {
+    const QString text = tr("No report written to %1: another is being written; stop it or wait for it").arg(dir);
     message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    statusBar()->showMessage(text, 15000);
+    return;
+  }
+  // What the worker reads, copied: the window goes on simulating, recording and editing meanwhile.
+  auto order = std::make_shared<const vaw::eval::SequencePlan>(*plan);
+  std::shared_ptr<const vaw::sim::Scene> recordedOn;
+  auto session = std::make_shared<vaw::sim::Session>();
+  if (simulation_->hasWorld() && simulation_->recorder().length() > 0) {
+    recordedOn = simulation_->recorder().scenePtr();
+    *session = simulation_->recorder().session();
+  }
+  const std::string label = tr("this session").toStdString();
+  const std::filesystem::path where(QFile::encodeName(dir).toStdString());
+
+  auto cancel = std::make_shared<std::atomic<bool>>(false);
+  reportCancel_ = cancel;
+  reportHeading_ = tr("Writing the report into %1").arg(dir);
+  reportProgress_ = new QProgressDialog(reportHeading_, tr("Stop"), 0, 1000, this);
+  reportProgress_->setObjectName(QStringLiteral("reportProgress"));
+  reportProgress_->setWindowTitle(tr("Export Report"));
+  // The window stays in use while the report is written.
+  reportProgress_->setWindowModality(Qt::NonModal);
+  reportProgress_->setAutoClose(false);
+  reportProgress_->setAutoReset(false);
+  reportProgress_->setMinimumDuration(400);
+  connect(reportProgress_, &QProgressDialog::canceled, this, [cancel] { cancel->store(true); });
+  // The replay takes most of the time when there is a session; the pictures the rest.
+  const double replayShare = recordedOn ? 0.8 : 0.0;
+  // For the GUI tests only: a pause at each progress report, so that a short replay lasts long enough to
+  // click during it on any machine.
+  const int pace = qEnvironmentVariableIntValue("VAW_REPORT_PACE_MS");
+  const auto stage = [this, cancel, pace](double from, double share) -> vaw::ProgressFn {
+    return [this, cancel, from, share, pace](double fraction, const std::string& what) {
+      if (pace > 0) std::this_thread::sleep_for(std::chrono::milliseconds(pace));
+      const int value = static_cast<int>(1000.0 * (from + share * std::clamp(fraction, 0.0, 1.0)));
+      const QString text = QString::fromStdString(what);
+      // "Writing the report into DIR" and under it the stage: "replaying this session", "drawing picture 3 of 9".
+      // Queued to this window, which waits for the worker before it goes (~MainWindow).
+      QMetaObject::invokeMethod(
+          this,
+          [this, cancel, value, text] {
+            if (cancel != reportCancel_ || reportProgress_ == nullptr) return;
+            reportProgress_->setValue(value);
+            reportProgress_->setLabelText(reportHeading_ + QLatin1Char('\n') + text);
+          },
+          Qt::QueuedConnection);
+      return !cancel->load();
+    };
+  };
+  statusBar()->showMessage(tr("Writing the report into %1...").arg(dir));
+  reportWatcher_.setFuture(QtConcurrent::run([=] {
+    ReportOutcome out;
+    out.dir = dir;
+    try {
+      std::vector<vaw::eval::SessionStats> sessions;
+      // The session replayed on the scene it was recorded on: a trial's scale is not the scene's.
+      if (recordedOn) sessions.push_back(vaw::eval::sessionStats(recordedOn, *session, label, stage(0.0, replayShare)));
+      const vaw::report::ReportFiles files =
+          vaw::report::writeReport(scene->assembly(), *order, sessions, where, stage(replayShare, 1.0 - replayShare));
+      out.html = QFile::decodeName(files.html.string().c_str());
+      if (!sessions.empty()) out.session = QString::number(sessions.front().duration_s, 'f', 2);
+    } catch (const vaw::LoadCancelled&) {
+      out.cancelled = true;
+    } catch (const std::exception& e) {  // vaw::OutputError naming the file; a failed replay too
+      out.error = QString::fromUtf8(e.what());
+    }
+    return out;
+  }));
+}
+
+void MainWindow::reportFinished() {
+  const ReportOutcome out = reportWatcher_.result();
+  if (reportProgress_ != nullptr) {
+    reportProgress_->close();
+    reportProgress_->deleteLater();
+    reportProgress_ = nullptr;
+  }
+  reportCancel_.reset();
+  QString text;
+  if (out.cancelled) {
+    text = tr("Stopped: no report written to %1").arg(out.dir);
+    message(static_cast<int>(MessageLogModel::Severity::Info), text);
+  } else if (!out.error.isEmpty()) {
+    text = tr("Could not write the report into %1: %2").arg(out.dir, out.error);
+    message(static_cast<int>(MessageLogModel::Severity::Error), text);
+  } else {
+    text = tr("Wrote the report to %1").arg(out.html);
+    message(static_cast<int>(MessageLogModel::Severity::Info), text,
+            out.session.isEmpty() ? tr("No session: nothing was simulated yet.") : tr("With this session (%1 s).").arg(out.session));
   }
   statusBar()->showMessage(text, 15000);
 }

@@ -53,9 +53,9 @@ void MainWindow::createMenus() {
   saveAsAction_->setObjectName(QStringLiteral("saveAsAction"));
   saveAsAction_->setShortcut(QKeySequence(tr("Ctrl+Alt+S")));
   saveAsAction_->setEnabled(false);
-  QAction* tessellation = file->addAction(tr("STEP &Tessellation..."), this, &MainWindow::stepDeflectionDialog);
-  tessellation->setObjectName(QStringLiteral("stepDeflectionAction"));
-  tessellation->setToolTip(tr("How finely STEP parts are tessellated for display and collision"));
+  QAction* stepSettings = file->addAction(tr("STEP Se&ttings..."), this, &MainWindow::stepSettingsDialog);
+  stepSettings->setObjectName(QStringLiteral("stepSettingsAction"));
+  stepSettings->setToolTip(tr("How finely STEP parts are tessellated, and the reader's time, memory and instance limits"));
   QAction* save = file->addAction(tr("Save &Session..."), this, &MainWindow::saveSessionDialog);
   save->setObjectName(QStringLiteral("saveSessionAction"));
   save->setShortcut(QKeySequence(tr("Ctrl+Shift+S")));

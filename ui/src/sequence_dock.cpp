@@ -281,7 +281,10 @@ void SequenceDock::finished() {
   finding_ = false;
   showIdle();
   // Found on a scene that was replaced meanwhile: it says nothing about the one loaded now.
-  if (out.scene != controller_.scene()) return;
+  if (out.scene != controller_.scene()) {
+    emit searchOutdated();
+    return;
+  }
   if (!out.plan) {
     const QString why = out.cancelled ? tr("Stopped: no order found.") : tr("No order: %1").arg(out.error);
     hint_->setStyleSheet(out.cancelled ? QString() : QStringLiteral("color: #c80000;"));

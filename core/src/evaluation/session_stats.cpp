@@ -116,11 +116,18 @@ SessionStats SessionObserver::finish(const sim::World& world, std::string label)
   return out;
 }
 
-SessionStats sessionStats(std::shared_ptr<const sim::Scene> scene, const sim::Session& session, std::string label) {
+SessionStats sessionStats(std::shared_ptr<const sim::Scene> scene, const sim::Session& session, std::string label,
+                          const ProgressFn& progress) {
   std::optional<SessionObserver> observer;
+  const std::size_t steps = session.inputs.size();
+  const std::size_t every = std::max<std::size_t>(steps / 100, 1);
+  std::size_t step = 0;
   const sim::World w = sim::replay(std::move(scene), session, [&](const sim::World& world) {
     if (!observer) observer.emplace(world);
     observer->observe(world);
+    if (progress && ++step % every == 0 &&
+        !progress(static_cast<double>(step) / static_cast<double>(std::max<std::size_t>(steps, 1)), "replaying " + label))
+      throw LoadCancelled();
   });
   if (!observer) observer.emplace(w);
   return observer->finish(w, std::move(label));

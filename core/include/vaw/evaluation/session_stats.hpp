@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "vaw/importer.hpp"
 #include "vaw/sim/session.hpp"
 #include "vaw/sim/world.hpp"
 
@@ -62,8 +63,10 @@ class SessionObserver {
   std::vector<PartSession> parts_;
 };
 
-// Replays a recorded session on its scene and sums it up.
-SessionStats sessionStats(std::shared_ptr<const sim::Scene> scene, const sim::Session& session, std::string label);
+// Replays a recorded session on its scene and sums it up. `progress` hears how far the replay is, about a
+// hundred times; when it returns false the replay stops with vaw::LoadCancelled.
+SessionStats sessionStats(std::shared_ptr<const sim::Scene> scene, const sim::Session& session, std::string label,
+                          const ProgressFn& progress = {});
 
 struct Spread {
   int n = 0;  // sessions with a value

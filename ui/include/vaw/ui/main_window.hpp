@@ -3,13 +3,17 @@
 // status bar, and wires them to the two controllers (the loaded scene's and the running simulation's). It
 // holds no assembly or simulation state of its own.
 #include <QElapsedTimer>
+#include <QFutureWatcher>
 #include <QMainWindow>
 #include <QTimer>
+#include <atomic>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "vaw/assembly.hpp"
+#include "vaw/importer.hpp"
 #include "vaw/sim/edit.hpp"
 #include "vaw/sim/report.hpp"
 
@@ -17,6 +21,7 @@ class QAction;
 class QDockWidget;
 class QLabel;
 class QMenu;
+class QProgressDialog;
 class QUndoStack;
 
 namespace vaw::ui {
@@ -86,18 +91,23 @@ class MainWindow : public QMainWindow {
   bool exportTimelineCsv(const QString& file);
   // File > Export Report: the folder asked for, then exportReport.
   void exportReportDialog();
-  // The evaluation report (vaw::eval::writeReport) into `dir`, with this window's session when it has
-  // steps. Without an order yet, the Sequence panel finds one first and the report follows it.
+  // The evaluation report (vaw::report::writeReport) into `dir`, with this window's session when it has
+  // steps. Without an order yet, the Sequence panel finds one first and the report follows it. The session's
+  // replay and the pictures run off the GUI thread, shown in a progress window with Stop (reportProgress).
   void exportReport(const QString& dir);
+  // True from the moment a report is started until what came of it was said.
+  [[nodiscard]] bool writingReport() const { return reportCancel_ != nullptr; }
+  [[nodiscard]] QProgressDialog* reportProgress() const { return reportProgress_; }
   // File > Save: the scene with the tuning as edited (vaw::sim::saveScene); Save As when the file opened is
   // not a scene. Returns false, having said why, when nothing was saved.
   bool save();
   bool saveAs();
   bool saveScene(const QString& file);
-  // File > STEP Tessellation: the chordal deflection of STEP parts as a fraction of each part's size, kept
-  // between runs; an open STEP assembly is read again with it.
-  void stepDeflectionDialog();
-  void setStepDeflection(double relative);
+  // File > STEP Settings: the chordal deflection of STEP parts as a fraction of each part's size and the
+  // reader's limits (time, memory, part instances), kept between runs; an open STEP assembly is read again
+  // with a new tessellation.
+  void stepSettingsDialog();
+  void setStepSettings(const vaw::ImportOptions& import);
   // Opens `path` after asking about unsaved tuning (which may cancel).
   void openFile(const QString& path);
   // Asks whether to save unsaved tuning: true when it was saved or may be dropped, false to cancel.
@@ -184,6 +194,16 @@ class MainWindow : public QMainWindow {
   ConstraintsDock* constraintsDock_ = nullptr;
   SequenceDock* sequenceDock_ = nullptr;
   QString pendingReport_;  // the folder a report waits for the order to be written into
+  // The report being written in the background: where, and what came of it.
+  struct ReportOutcome {
+    QString dir, html, error, session;
+    bool cancelled = false;
+  };
+  void reportFinished();
+  QFutureWatcher<ReportOutcome> reportWatcher_;
+  std::shared_ptr<std::atomic<bool>> reportCancel_;  // set while a report is being written
+  QProgressDialog* reportProgress_ = nullptr;
+  QString reportHeading_;
   bool blinded_ = false;
   std::vector<QDockWidget*> closedForBlinding_;
   bool motionStale_ = true;  // a new world: the motion chart replays it when next shown

@@ -86,6 +86,8 @@ class SequenceDock : public QDockWidget {
   // A search ended: plan() is the new plan, or null with `why` (an assembly without a base, cancelled).
   void orderFound();
   void orderFailed(const QString& why);
+  // A search ended on a scene that was replaced while it ran: its result was dropped.
+  void searchOutdated();
   void statusMessage(const QString& text);
 
  private:
