@@ -8,6 +8,8 @@
 #include <QLineEdit>
 #include <QMainWindow>
 #include <QMenu>
+#include <QSettings>
+#include <QUndoStack>
 #include <QTreeView>
 #include <QPixmap>
 #include <QScreen>
@@ -18,6 +20,7 @@
 #include <cmath>
 #include <memory>
 
+#include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/scene_tree_model.hpp"
@@ -238,6 +241,61 @@ void moveCarriedWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isomet
 void releaseWithMouse(ui::MainWindow& window) {
   const QPoint at = window.viewport()->projectToWindow(window.simulation().handPosition()).toPoint();
   QTest::mouseRelease(window.viewport()->view3d(), Qt::LeftButton, {}, at);
+}
+
+
+Workbench::Workbench() = default;
+Workbench::~Workbench() = default;
+
+bool Workbench::start(const WorkbenchOptions& options, const std::function<void(ui::MainWindow&)>& beforeShow) {
+  options_ = options;
+  failOnWarnings();
+  if (options.clearSettings) QSettings().clear();
+  controller = std::make_unique<ui::AssemblyController>();
+  window = std::make_unique<ui::MainWindow>(*controller);
+  if (beforeShow) beforeShow(*window);
+  return restart();
+}
+
+bool Workbench::restart() {
+  if (!controller) controller = std::make_unique<ui::AssemblyController>();
+  if (!window) window = std::make_unique<ui::MainWindow>(*controller);
+  if (options_.autoPlay) window->setAutoPlay(*options_.autoPlay);
+  window->resize(options_.size);
+  window->show();
+  if (!QTest::qWaitForWindowExposed(window.get()) || !QTest::qWaitForWindowExposed(window->viewport()->view3d())) {
+    QTest::qFail("the workbench's window was not exposed", __FILE__, __LINE__);
+    return false;
+  }
+  if (options_.activate) {
+    window->activateWindow();
+    if (!QTest::qWaitForWindowActive(window.get())) {
+      QTest::qFail("the workbench's window did not become active", __FILE__, __LINE__);
+      return false;
+    }
+  }
+  return true;
+}
+
+void Workbench::stop() {
+  window.reset();
+  controller.reset();
+  restoreMessageHandler();
+}
+
+bool Workbench::open(const QString& path) {
+  window->undoStack()->setClean();
+  QSignalSpy loaded(controller.get(), &ui::AssemblyController::assemblyLoaded);
+  window->openFile(path);
+  if (!loaded.wait(60000) && loaded.isEmpty()) {
+    QTest::qFail(qPrintable(QStringLiteral("%1 did not load within a minute").arg(path)), __FILE__, __LINE__);
+    return false;
+  }
+  if (!window->simulation().hasWorld() || capture(window->viewport()).isNull()) {
+    QTest::qFail(qPrintable(QStringLiteral("%1 loaded, but the viewport shows no world").arg(path)), __FILE__, __LINE__);
+    return false;
+  }
+  return true;
 }
 
 }  // namespace vaw::guitest

@@ -1,13 +1,16 @@
 #pragma once
-// Shared by the GUI tests (Qt Test under Xvfb): any Qt warning fails the test, captures of the 3D view,
-// where a part shows on screen.
+// Shared by the GUI tests (Qt Test under Xvfb): the workbench started and files opened as every test
+// does it (Workbench), any Qt warning fails the test, captures of the 3D view, where a part shows on screen.
 #include <QAbstractSpinBox>
 #include <QImage>
 #include <QWindow>
 #include <QPoint>
 #include <QRgb>
 #include <QString>
+#include <QSize>
 #include <QStringList>
+#include <functional>
+#include <memory>
 #include <optional>
 
 #include "vaw/assembly.hpp"
@@ -17,11 +20,45 @@ class QMenu;
 class QWidget;
 
 namespace vaw::ui {
+class AssemblyController;
 class MainWindow;
 class Viewport;
 }
 
 namespace vaw::guitest {
+
+// The window as a GUI test starts it: Qt warnings fail the test, the settings of earlier runs gone, the
+// workbench shown at a fixed size, exposed (its 3D view too) and active so that shortcuts reach it. A test
+// class holds one and refers to its controller and window.
+struct WorkbenchOptions {
+  bool clearSettings = true;
+  std::optional<bool> autoPlay;  // whether an opened scene starts running; empty: the window's default
+  QSize size{1280, 800};
+  bool activate = true;
+};
+class Workbench {
+ public:
+  Workbench();
+  ~Workbench();
+  Workbench(const Workbench&) = delete;
+  Workbench& operator=(const Workbench&) = delete;
+  // From initTestCase: false, with the test failed, when the window does not come up. `beforeShow` sees
+  // the new window first (to attach model testers, say).
+  [[nodiscard]] bool start(const WorkbenchOptions& options = {}, const std::function<void(ui::MainWindow&)>& beforeShow = {});
+  // Another window for the same controller's successor (a restart within one test).
+  [[nodiscard]] bool restart();
+  // From cleanupTestCase.
+  void stop();
+  // File > Open as a person does it, unsaved tuning dropped without a question: false, with the test
+  // failed, when the assembly does not load within a minute or the viewport shows nothing.
+  [[nodiscard]] bool open(const QString& path);
+
+  std::unique_ptr<ui::AssemblyController> controller;
+  std::unique_ptr<ui::MainWindow> window;
+
+ private:
+  WorkbenchOptions options_;
+};
 
 // Installs a message handler that collects every Qt warning and critical message, except the harmless
 // ones it lists (each with its reason). takeWarnings() returns and clears them.

@@ -48,6 +48,11 @@ using vaw::ui::MainWindow;
 
 namespace {
 
+// How long a condition may take to come true. A full `ctest -j2` runs two GUI tests at once on two cores
+// with software OpenGL, and a reload or a recognition then takes several times its time alone; the
+// tests wait for the condition, so a generous cap costs nothing when it comes at once.
+constexpr int kSettle = 30000;
+
 QString sample() { return QFile::decodeName((vaw::resourceDir() / "step" / "bolted-bracket.stp").string().c_str()); }
 
 // Runs `act` on the next modal dialog once it shows.
@@ -113,44 +118,28 @@ class TestConstraints : public QObject {
   void clickFace(PartId part, std::size_t face);
   void shot(QWidget* widget, const QString& name) { vaw::guitest::shot(window_.get(), widget, name); }
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
   QTemporaryDir dir_;
   QString saved_;  // the scene the review saved, which the base test opens
 };
 
 void TestConstraints::initTestCase() {
-  vaw::guitest::failOnWarnings();
-  QSettings().clear();
   QVERIFY(dir_.isValid());
   QVERIFY2(QFile::exists(sample()), qPrintable(sample()));
-  controller_ = std::make_unique<AssemblyController>();
+  QVERIFY(bench_.start({.autoPlay = false}));
   QVERIFY2(controller_->importers().find(std::filesystem::path("x.stp")) != nullptr, "the STEP plugin is in VAW_PLUGIN_PATH");
-  window_ = std::make_unique<MainWindow>(*controller_);
-  window_->setAutoPlay(false);
-  window_->resize(1280, 800);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
-  window_->activateWindow();
-  QVERIFY(QTest::qWaitForWindowActive(window_.get()));
 }
 
 void TestConstraints::cleanup() { vaw::guitest::verifyNoWarnings(); }
 
 void TestConstraints::cleanupTestCase() {
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 void TestConstraints::open(const QString& path) {
-  window_->undoStack()->setClean();
-  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
-  window_->openFile(path);
-  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
-  QVERIFY(window_->simulation().hasWorld());
-  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
+  QVERIFY(bench_.open(path));
 }
 
 void TestConstraints::showDock() {
@@ -204,7 +193,7 @@ void TestConstraints::swapExchangesPartAndPartner() {
   QVERIFY(dock()->swapButton()->isEnabled());
   const QString part = cell(row, ConstraintsModel::PartColumn), partner = cell(row, ConstraintsModel::PartnerColumn);
   QTest::mouseClick(dock()->swapButton(), Qt::LeftButton);
-  QTRY_COMPARE(cell(row, ConstraintsModel::PartColumn), partner);
+  QTRY_COMPARE_WITH_TIMEOUT(cell(row, ConstraintsModel::PartColumn), partner, kSettle);
   QCOMPARE(cell(row, ConstraintsModel::PartnerColumn), part);
   const vaw::Constraint& after = assembly().constraints[static_cast<std::size_t>(row)];
   QCOMPARE(after.part, expected.part);
@@ -213,11 +202,11 @@ void TestConstraints::swapExchangesPartAndPartner() {
   QVERIFY((after.homeDirection - expected.homeDirection).norm() < 1e-12);
   QVERIFY(window_->hasUnsavedChanges());
   // The swapped row stays selected, and its axis is now drawn on the old part.
-  QTRY_VERIFY(viewport()->constraintGeometry().has_value());
+  QTRY_VERIFY_WITH_TIMEOUT(viewport()->constraintGeometry().has_value(), kSettle);
   QCOMPARE(viewport()->constraintGeometry()->partner, before.part);
 
   vaw::guitest::pressKey(window_.get(), Qt::Key_Z, Qt::ControlModifier);
-  QTRY_COMPARE(cell(row, ConstraintsModel::PartColumn), part);
+  QTRY_COMPARE_WITH_TIMEOUT(cell(row, ConstraintsModel::PartColumn), part, kSettle);
   QCOMPARE(assembly().constraints[static_cast<std::size_t>(row)].partner, before.partner);
   QVERIFY(!window_->hasUnsavedChanges());
 
@@ -250,13 +239,13 @@ void TestConstraints::reviewUndoSaveAndReopen() {
   QVERIFY(cell(insert, ConstraintsModel::GeometryColumn).startsWith(QStringLiteral("axis through (")));
   QVERIFY(cell(insert, ConstraintsModel::ClearanceColumn).endsWith(QStringLiteral(" mm")));
   clickRow(insert);
-  QTRY_VERIFY(viewport()->constraintGeometry().has_value());
+  QTRY_VERIFY_WITH_TIMEOUT(viewport()->constraintGeometry().has_value(), kSettle);
   const vaw::Constraint c = assembly().constraints[static_cast<std::size_t>(insert)];
   const PartId partner = c.partner.value_or(*assembly().base);
   QCOMPARE(viewport()->constraintGeometry()->partner, partner);
   QCOMPARE(viewport()->constraintGeometry()->kind, vaw::ui::Viewport::ConstraintGeometry::Kind::Axis);
   // Drawn through the partner's axis where the simulation has the partner now.
-  QTRY_COMPARE(viewport()->constraintSegments().size(), std::size_t{1});
+  QTRY_COMPARE_WITH_TIMEOUT(viewport()->constraintSegments().size(), std::size_t{1}, kSettle);
   const Eigen::Isometry3d partnerPose = window_->simulation().world().part(partner).pose;
   const auto [from, to] = viewport()->constraintSegments().front();
   QVERIFY(distanceToLine(partnerPose * c.baseAxis.point, from, to) < 1e-9);
@@ -282,13 +271,13 @@ void TestConstraints::reviewUndoSaveAndReopen() {
   // Reject: 14 rows, nothing selected, no overlay; Ctrl+Z: 15 again.
   const std::string rejected = c.name;
   QTest::mouseClick(dock()->rejectButton(), Qt::LeftButton);
-  QTRY_COMPARE(model()->rowCount(), 14);
+  QTRY_COMPARE_WITH_TIMEOUT(model()->rowCount(), 14, kSettle);
   QCOMPARE(assembly().constraints.size(), std::size_t{14});
   QVERIFY(window_->hasUnsavedChanges());
   QVERIFY(window_->windowTitle().contains(QStringLiteral("*")) || window_->isWindowModified());
-  QTRY_VERIFY(!viewport()->constraintGeometry());
+  QTRY_VERIFY_WITH_TIMEOUT(!viewport()->constraintGeometry(), kSettle);
   vaw::guitest::pressKey(window_.get(), Qt::Key_Z, Qt::ControlModifier);
-  QTRY_COMPARE(model()->rowCount(), 15);
+  QTRY_COMPARE_WITH_TIMEOUT(model()->rowCount(), 15, kSettle);
   QCOMPARE(assembly().constraints[static_cast<std::size_t>(insert)].name, rejected);
   QVERIFY(!window_->hasUnsavedChanges());
 
@@ -299,13 +288,13 @@ void TestConstraints::reviewUndoSaveAndReopen() {
   QCOMPARE(cell(mate, ConstraintsModel::ClearanceColumn), QStringLiteral("—"));
   QVERIFY(cell(mate, ConstraintsModel::OverlapColumn).endsWith(QStringLiteral("mm²")));
   clickRow(mate);
-  QTRY_COMPARE(viewport()->constraintSegments().size(), std::size_t{5});
+  QTRY_COMPARE_WITH_TIMEOUT(viewport()->constraintSegments().size(), std::size_t{5}, kSettle);
   const std::string acceptedName = assembly().constraints[static_cast<std::size_t>(mate)].name;
   QTest::mouseClick(dock()->acceptButton(), Qt::LeftButton);
-  QTRY_COMPARE(cell(mate, ConstraintsModel::StatusColumn), QStringLiteral("accepted"));
+  QTRY_COMPARE_WITH_TIMEOUT(cell(mate, ConstraintsModel::StatusColumn), QStringLiteral("accepted"), kSettle);
   QVERIFY(assembly().constraints[static_cast<std::size_t>(mate)].accepted);
   QVERIFY(!dock()->acceptButton()->isEnabled());
-  QTRY_COMPARE(viewport()->constraintSegments().size(), std::size_t{5});
+  QTRY_COMPARE_WITH_TIMEOUT(viewport()->constraintSegments().size(), std::size_t{5}, kSettle);
   QVERIFY(window_->hasUnsavedChanges());
   shot(window_.get(), QStringLiteral("constraints-mate-plane.png"));
 
@@ -322,7 +311,7 @@ void TestConstraints::reviewUndoSaveAndReopen() {
     QTest::keyClick(name, Qt::Key_Return);
   });
   vaw::guitest::pressKey(window_.get(), Qt::Key_S, Qt::ControlModifier | Qt::AltModifier);
-  QTRY_VERIFY(QFile::exists(saved_));
+  QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(saved_), kSettle);
   QVERIFY(!window_->hasUnsavedChanges());
   const QJsonArray written = readJson(saved_).value(QStringLiteral("constraints")).toArray();
   QCOMPARE(written.size(), 15);
@@ -385,19 +374,19 @@ void TestConstraints::anotherPartBecomesTheBase() {
   window_->sceneDock()->selectPart(bracket);
   viewport()->selectPart(bracket);
   QString role;
-  QTRY_VERIFY([&] {
+  QTRY_VERIFY_WITH_TIMEOUT([&] {
     auto* props = window_->partDock()->model();
     for (int row = 0; row < props->rowCount(); ++row)
       if (props->index(row, vaw::ui::PartPropertiesModel::PropertyColumn).data().toString() == QStringLiteral("Role"))
         role = props->index(row, vaw::ui::PartPropertiesModel::ValueColumn).data().toString();
     return role.startsWith(QStringLiteral("base"));
-  }());
+  }(), kSettle);
   shot(window_.get(), QStringLiteral("constraints-bracket-base.png"));
 
   // File > Save writes the new base into the scene.
   vaw::guitest::pressKey(window_.get(), Qt::Key_S, Qt::ControlModifier);
-  QTRY_COMPARE(readJson(saved_).value(QStringLiteral("cad")).toObject().value(QStringLiteral("base")).toString(),
-               QStringLiteral("bracket"));
+  QTRY_COMPARE_WITH_TIMEOUT(readJson(saved_).value(QStringLiteral("cad")).toObject().value(QStringLiteral("base")).toString(),
+                            QStringLiteral("bracket"), kSettle);
 
   // Reopened, the saved scene keeps the bracket as its base, with the constraints it saved.
   const int rows = model()->rowCount();
@@ -501,7 +490,7 @@ void TestConstraints::addFromFaces() {
   QVERIFY(rejected.found.has_value());
   clickRow(row);
   QTest::mouseClick(dock()->rejectButton(), Qt::LeftButton);
-  QTRY_COMPARE(model()->rowCount(), 14);
+  QTRY_COMPARE_WITH_TIMEOUT(model()->rowCount(), 14, kSettle);
 
   // Each of these parts has one cylinder of the kind: the sleeve's bore, the pin's and the stud's sides.
   const auto bore = cylinderFace(*sleeve, false), shaft = cylinderFace(*pin, true), studSide = cylinderFace(*stud, true);
@@ -540,7 +529,7 @@ void TestConstraints::addFromFaces() {
   QVERIFY(hint().contains(QStringLiteral("sleeve: a hole")));
   QCOMPARE(viewport()->selectedPart(), sleeve);
   clickFace(*stud, *studSide);
-  QTRY_VERIFY(!dock()->pickingFaces());
+  QTRY_VERIFY_WITH_TIMEOUT(!dock()->pickingFaces(), kSettle);
   const QString refused =
       QStringLiteral("Not a constraint between sleeve and stud-1: the axes are %1 mm apart.").arg(apart * 1000.0, 0, 'f', 1);
   QCOMPARE(hint(), refused);
@@ -559,18 +548,18 @@ void TestConstraints::addFromFaces() {
   QVERIFY(plateTop);
   QTest::mouseClick(add, Qt::LeftButton);
   clickFace(plate, *plateTop);
-  QTRY_VERIFY(hint().startsWith(QStringLiteral("Click the face of its partner (base-plate: a flat face)")));
+  QTRY_VERIFY_WITH_TIMEOUT(hint().startsWith(QStringLiteral("Click the face of its partner (base-plate: a flat face)")), kSettle);
   clickFace(*pin, *shaft);
-  QTRY_VERIFY(!dock()->pickingFaces());
+  QTRY_VERIFY_WITH_TIMEOUT(!dock()->pickingFaces(), kSettle);
   QCOMPARE(hint(),
            QStringLiteral("Not a constraint between base-plate and pin: the two faces are not both cylinders or both planes."));
 
   // The sleeve's bore, then the pin's side: the insert is back, accepted, selected, its axis drawn.
   QTest::mouseClick(add, Qt::LeftButton);
   clickFace(*sleeve, *bore);
-  QTRY_VERIFY(hint().startsWith(QStringLiteral("Click the face of its partner")));
+  QTRY_VERIFY_WITH_TIMEOUT(hint().startsWith(QStringLiteral("Click the face of its partner")), kSettle);
   clickFace(*pin, *shaft);
-  QTRY_COMPARE(model()->rowCount(), 15);
+  QTRY_COMPARE_WITH_TIMEOUT(model()->rowCount(), 15, kSettle);
   const int added = rowNamed("insert sleeve on pin");
   QVERIFY(added >= 0);
   const vaw::Constraint c = assembly().constraints[static_cast<std::size_t>(added)];
@@ -585,22 +574,22 @@ void TestConstraints::addFromFaces() {
   QCOMPARE(added, row);  // where recognition had it
   QVERIFY(hint().startsWith(QStringLiteral("Added \"insert sleeve on pin\"")));
   QVERIFY(window_->hasUnsavedChanges());
-  QTRY_VERIFY(table()->selectionModel()->isRowSelected(added, {}));
-  QTRY_VERIFY(viewport()->constraintGeometry().has_value());
+  QTRY_VERIFY_WITH_TIMEOUT(table()->selectionModel()->isRowSelected(added, {}), kSettle);
+  QTRY_VERIFY_WITH_TIMEOUT(viewport()->constraintGeometry().has_value(), kSettle);
   QCOMPARE(viewport()->constraintGeometry()->partner, *pin);
   shot(window_.get(), QStringLiteral("constraints-faces-added.png"));
 
   // The same two faces again: there already.
   QTest::mouseClick(add, Qt::LeftButton);
   clickFace(*pin, *shaft);
-  QTRY_VERIFY(hint().startsWith(QStringLiteral("Click the face of its partner")));
+  QTRY_VERIFY_WITH_TIMEOUT(hint().startsWith(QStringLiteral("Click the face of its partner")), kSettle);
   clickFace(*sleeve, *bore);
-  QTRY_VERIFY(!dock()->pickingFaces());
+  QTRY_VERIFY_WITH_TIMEOUT(!dock()->pickingFaces(), kSettle);
   QCOMPARE(hint(), QStringLiteral("Not added: \"insert sleeve on pin\" is there already."));
   QCOMPARE(model()->rowCount(), 15);
 
   vaw::guitest::pressKey(window_.get(), Qt::Key_Z, Qt::ControlModifier);
-  QTRY_COMPARE(model()->rowCount(), 14);
+  QTRY_COMPARE_WITH_TIMEOUT(model()->rowCount(), 14, kSettle);
   QCOMPARE(rowNamed("insert sleeve on pin"), -1);
 }
 

@@ -10,6 +10,7 @@
 #include <QFile>
 #include <QLabel>
 #include <QProgressBar>
+#include <QProgressDialog>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
@@ -25,6 +26,7 @@
 
 #include "gui_test_support.hpp"
 #include "vaw/paths.hpp"
+#include "vaw/sim/session.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
@@ -66,6 +68,7 @@ class TestSequence : public QObject {
   void stuckPartNamesItsBlockers();
   void anotherAssemblyClearsThePlan();
   void withoutBaseSaysWhy();
+  void reportOfALongSessionKeepsTheWindowAnsweringAndStops();
 
  private:
   [[nodiscard]] vaw::ui::SequenceDock* dock() const { return window_->sequenceDock(); }
@@ -77,41 +80,25 @@ class TestSequence : public QObject {
   void open(const QString& path);
   void showDock();
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
 };
 
 void TestSequence::initTestCase() {
-  vaw::guitest::failOnWarnings();
-  QSettings().clear();
   QVERIFY2(QFile::exists(sample()), qPrintable(sample()));
-  controller_ = std::make_unique<AssemblyController>();
+  QVERIFY(bench_.start({.autoPlay = false}));
   QVERIFY2(controller_->importers().find(std::filesystem::path("x.stp")) != nullptr, "the STEP plugin is in VAW_PLUGIN_PATH");
-  window_ = std::make_unique<MainWindow>(*controller_);
-  window_->setAutoPlay(false);
-  window_->resize(1280, 800);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  QVERIFY(QTest::qWaitForWindowExposed(window_->viewport()->view3d()));
-  window_->activateWindow();
-  QVERIFY(QTest::qWaitForWindowActive(window_.get()));
 }
 
 void TestSequence::cleanup() { vaw::guitest::verifyNoWarnings(); }
 
 void TestSequence::cleanupTestCase() {
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 void TestSequence::open(const QString& path) {
-  window_->undoStack()->setClean();
-  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
-  window_->openFile(path);
-  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
-  QVERIFY(window_->simulation().hasWorld());
-  QVERIFY(!vaw::guitest::capture(window_->viewport()).isNull());
+  QVERIFY(bench_.open(path));
 }
 
 void TestSequence::showDock() {
@@ -185,6 +172,7 @@ void TestSequence::findOrderSelectAndExport() {
   QVERIFY(out.isValid());
   const QString dir = out.filePath(QStringLiteral("report"));
   window_->exportReport(dir);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->writingReport(), 60000);
   QVERIFY(QFile::exists(dir + QStringLiteral("/report.html")));
   QVERIFY(QFile::exists(dir + QStringLiteral("/parts.csv")));
   QVERIFY(readText(dir + QStringLiteral("/parts.csv")).contains(QStringLiteral("bracket")));
@@ -201,6 +189,7 @@ void TestSequence::findOrderSelectAndExport() {
   vaw::ui::MessageLogModel* log = window_->messagesDock()->model();
   const int errors = log->count(vaw::ui::MessageLogModel::Severity::Error);
   window_->exportReport(bad);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->writingReport(), 60000);
   QCOMPARE(log->count(vaw::ui::MessageLogModel::Severity::Error), errors + 1);
   QVERIFY2(log->text(log->rowCount() - 1).contains(bad), qPrintable(log->text(log->rowCount() - 1)));
   QVERIFY(window_->statusBar()->currentMessage().startsWith(QStringLiteral("Could not write the report into ")));
@@ -269,6 +258,56 @@ void TestSequence::withoutBaseSaysWhy() {
       window_->statusBar()->currentMessage().startsWith(QStringLiteral("No report written to ") + out.path()), 30000);
   QVERIFY(!QFile::exists(out.filePath(QStringLiteral("report.html"))));
   vaw::guitest::shot(window_.get(), dock(), QStringLiteral("sequence-no-base.png"));
+}
+
+// A long session (16 minutes at 1 kHz, the most a session file holds) in the window: File > Export Report
+// replays it off the GUI thread, so a row clicked in the Sequence panel meanwhile selects its part at once,
+// and Stop in the report's progress window ends it with nothing written. The replay is paced for the test
+// (VAW_REPORT_PACE_MS, 30 ms at each of its hundred progress reports), so that it runs for seconds on
+// any machine.
+void TestSequence::reportOfALongSessionKeepsTheWindowAnsweringAndStops() {
+  qputenv("VAW_REPORT_PACE_MS", "30");
+  QTemporaryDir out;
+  QVERIFY(out.isValid());
+  vaw::sim::Session longSession;
+  longSession.scene = QFile::encodeName(sample()).toStdString();
+  longSession.settings.rate = 1000.0;
+  for (int i = 0; i < 960 * 1000; ++i) longSession.inputs.push_back(vaw::sim::Input{});
+  const QString file = out.filePath(QStringLiteral("longSession.vaw-session.json"));
+  vaw::sim::saveSession(longSession, std::filesystem::path(QFile::encodeName(file).toStdString()));
+  open(file);
+  QCOMPARE(window_->simulation().recorder().length(), std::uint64_t{960 * 1000});
+  showDock();
+  QTest::mouseClick(dock()->findButton(), Qt::LeftButton);
+  QTRY_VERIFY_WITH_TIMEOUT(dock()->plan() != nullptr, 60000);
+
+  const QString dir = out.filePath(QStringLiteral("report"));
+  window_->exportReport(dir);
+  QVERIFY(window_->writingReport());
+  // The window answers while the session is replayed: a row clicked selects its part.
+  const int row = rowNamed(QStringLiteral("pin"));
+  QVERIFY(row >= 0);
+  const QModelIndex index = model()->index(row, SequenceModel::PartColumn);
+  table()->scrollTo(index);
+  QTest::mouseClick(table()->viewport(), Qt::LeftButton, {}, table()->visualRect(index).center());
+  QTRY_COMPARE_WITH_TIMEOUT(window_->viewport()->selectedPart(), assembly().findPart("pin"), 1000);
+  QVERIFY2(window_->writingReport(), "the replay was still running when the row was clicked");
+
+  // Its progress window shows how far it is, and Stop ends it.
+  QTRY_VERIFY_WITH_TIMEOUT(window_->reportProgress() != nullptr && window_->reportProgress()->isVisible() &&
+                               window_->reportProgress()->value() > 0, 10000);
+  QProgressDialog* progress = window_->reportProgress();
+  QCOMPARE(progress->labelText(), QStringLiteral("Writing the report into %1\nreplaying this session").arg(dir));
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("sequence-report-progress.png"));
+  auto* stop = progress->findChild<QPushButton*>();
+  QVERIFY(stop != nullptr);
+  QCOMPARE(stop->text(), QStringLiteral("Stop"));
+  QTest::mouseClick(stop, Qt::LeftButton);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->writingReport(), 5000);
+  QCOMPARE(window_->statusBar()->currentMessage(), QStringLiteral("Stopped: no report written to ") + dir);
+  QVERIFY(!QFile::exists(dir + QStringLiteral("/report.html")));
+  QVERIFY(window_->reportProgress() == nullptr);
+  qunsetenv("VAW_REPORT_PACE_MS");
 }
 
 QTEST_MAIN(TestSequence)

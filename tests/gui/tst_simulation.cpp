@@ -110,20 +110,15 @@ class TestSimulation : public QObject {
   void screenshot(const QString& name);
   void setSpin(QDoubleSpinBox* box, double value);
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
   QTemporaryDir keep_;
   QString savedSession_;  // a session saved by one test for the next to open
 };
 
 void TestSimulation::initTestCase() {
-  vaw::guitest::failOnWarnings();
-  controller_ = std::make_unique<AssemblyController>();
-  window_ = std::make_unique<MainWindow>(*controller_);
-  window_->resize(1280, 800);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
+  QVERIFY(bench_.start({.clearSettings = false, .autoPlay = std::nullopt, .size = {1280, 800}, .activate = false}));
 }
 
 void TestSimulation::cleanup() {
@@ -132,9 +127,7 @@ void TestSimulation::cleanup() {
 }
 
 void TestSimulation::cleanupTestCase() {
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 void TestSimulation::open(const QString& scene) {

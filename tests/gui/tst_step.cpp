@@ -8,9 +8,9 @@
 #include <Qt3DRender/QCamera>
 #include <QDir>
 #include <QDoubleSpinBox>
-#include <QInputDialog>
 #include <QMenu>
 #include <QMimeData>
+#include <QSettings>
 #include <QSignalSpy>
 #include <QTableView>
 #include <QTreeView>
@@ -80,18 +80,13 @@ class TestStep : public QObject {
     return t;
   }
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
 };
 
 void TestStep::initTestCase() {
-  vaw::guitest::failOnWarnings();
-  controller_ = std::make_unique<AssemblyController>();
-  window_ = std::make_unique<MainWindow>(*controller_);
-  window_->resize(1280, 800);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
+  QVERIFY(bench_.start({.clearSettings = false, .autoPlay = std::nullopt, .size = {1280, 800}, .activate = false}));
 }
 
 void TestStep::cleanup() {
@@ -100,9 +95,7 @@ void TestStep::cleanup() {
 }
 
 void TestStep::cleanupTestCase() {
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 bool TestStep::messagesMention(const QString& text) const {
@@ -188,30 +181,38 @@ void TestStep::bracketIsAssembledWithTheMouseInOrder() {
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-assembled.png"));
 }
 
-// File > STEP Tessellation, answered in its dialog: the open file is read again, coarser.
+// File > STEP Settings, answered in its dialog: the open file is read again, coarser, and the reader's
+// time limit is the one typed.
 void TestStep::coarserTessellationIsChosenAndReadAgain() {
   open();
   const std::size_t fine = assembly().totalTriangles();
   const double fineDeflection = assembly().parts[part("stud-1")].cad->deflection;
   QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
   QTimer::singleShot(0, this, [] {
-    auto* dialog = qobject_cast<QInputDialog*>(QApplication::activeModalWidget());
+    QWidget* dialog = QApplication::activeModalWidget();
     QVERIFY(dialog != nullptr);
-    auto* box = dialog->findChild<QDoubleSpinBox*>();
-    QVERIFY(box != nullptr);
-    QTest::keyClick(box, Qt::Key_A, Qt::ControlModifier);
-    QTest::keyClicks(box, QStringLiteral("0.01"));
-    QTest::keyClick(box, Qt::Key_Return);
+    auto* timeout = dialog->findChild<QDoubleSpinBox*>(QStringLiteral("stepTimeout"));
+    auto* deflection = dialog->findChild<QDoubleSpinBox*>(QStringLiteral("stepDeflection"));
+    QVERIFY(timeout != nullptr && deflection != nullptr);
+    for (const auto& [box, text] : {std::pair{timeout, QStringLiteral("120")}, std::pair{deflection, QStringLiteral("0.01")}}) {
+      QTest::keyClick(box, Qt::Key_A, Qt::ControlModifier);
+      QTest::keyClicks(box, text);
+    }
+    vaw::guitest::shot(nullptr, dialog, QStringLiteral("step-settings.png"));
+    // Return in a field of the form is OK.
+    QTest::keyClick(deflection, Qt::Key_Return);
   });
-  window_->findChild<QAction*>(QStringLiteral("stepDeflectionAction"))->trigger();
+  window_->findChild<QAction*>(QStringLiteral("stepSettingsAction"))->trigger();
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
   QCOMPARE(controller_->loadOptions().import.relativeDeflection, 0.01);
+  QCOMPARE(controller_->loadOptions().import.timeoutSeconds, 120.0);
+  QCOMPARE(QSettings().value(QStringLiteral("import/timeoutSeconds")).toDouble(), 120.0);
   QVERIFY2(assembly().totalTriangles() < fine,
            qPrintable(QStringLiteral("%1 triangles, %2 before").arg(assembly().totalTriangles()).arg(fine)));
   QCOMPARE(assembly().parts[part("stud-1")].cad->deflection / fineDeflection, 10.0);
   QCOMPARE(assembly().constraints.size(), std::size_t{15});
-  // Back to the default for the other tests and runs (the choice is kept in the settings).
-  window_->setStepDeflection(vaw::ImportOptions{}.relativeDeflection);
+  // Back to the defaults for the other tests and runs (the choice is kept in the settings).
+  window_->setStepSettings(vaw::ImportOptions{});
   QVERIFY(loaded.wait(60000));
 }
 

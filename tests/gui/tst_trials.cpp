@@ -101,27 +101,18 @@ class TestTrials : public QObject {
   // Writes `json` as a design, loads it and starts it on a new results file; returns that file.
   QString startDesign(const QString& name, const QByteArray& json);
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
   QTemporaryDir dir_;
 };
 
 void TestTrials::initTestCase() {
-  vaw::guitest::failOnWarnings();
-  QSettings().clear();
   QVERIFY(dir_.isValid());
-  makeWindow();
+  QVERIFY(bench_.start());
 }
 
-void TestTrials::makeWindow() {
-  controller_ = std::make_unique<AssemblyController>();
-  window_ = std::make_unique<MainWindow>(*controller_);
-  window_->resize(1280, 800);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  window_->activateWindow();
-  QVERIFY(QTest::qWaitForWindowActive(window_.get()));
-}
+void TestTrials::makeWindow() { QVERIFY(bench_.restart()); }
 
 void TestTrials::press(int key) { vaw::guitest::pressKey(window_.get(), key); }
 
@@ -132,9 +123,7 @@ void TestTrials::cleanup() {
 }
 
 void TestTrials::cleanupTestCase() {
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 // A design with a bad field: the panel names the file and the field, and nothing starts.

@@ -60,6 +60,11 @@ using vaw::ui::MainWindow;
 
 namespace {
 
+// How long a condition may take to come true. A full `ctest -j2` runs two GUI tests at once on two cores
+// with software OpenGL, and a reload or a recognition then takes several times its time alone; the
+// tests wait for the condition, so a generous cap costs nothing when it comes at once.
+constexpr int kSettle = 30000;
+
 constexpr double kDeg = std::numbers::pi / 180.0;
 
 QString stateOf(const vaw::sim::World& w, PartId p) { return QString::fromStdString(std::string(vaw::interact::name(w.part(p).state))); }
@@ -125,6 +130,8 @@ class TestTuning : public QObject {
   void setSpin(QAbstractSpinBox* box, const QString& text);
   void editCell(QTableView* view, int row, int column, const QString& text);
   void pressAndDrag(const QPoint& from, const QPoint& to, int steps, int msPerStep);
+  // Lets `seconds` of simulated time pass with the mouse where it is.
+  void holdStill(double seconds);
   QPoint onPart(PartId part) { return vaw::guitest::pointOnPart(viewport(), assembly(), part, world().part(part).pose); }
   void shot(QWidget* widget, const QString& name);
   // A key press where the keyboard focus is (shortcuts of the window's menus included).
@@ -136,30 +143,18 @@ class TestTuning : public QObject {
   // Selects the part with a click on its row in the scene tree.
   void selectInTree(const QString& name);
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
   QTemporaryDir dir_;
 };
 
 void TestTuning::initTestCase() {
-  vaw::guitest::failOnWarnings();
-  QSettings().clear();
   QVERIFY(dir_.isValid());
-  makeWindow();
+  QVERIFY(bench_.start({.autoPlay = true}));
 }
 
-void TestTuning::makeWindow() {
-  controller_ = std::make_unique<AssemblyController>();
-  window_ = std::make_unique<MainWindow>(*controller_);
-  window_->setAutoPlay(true);
-  window_->resize(1280, 800);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
-  // Shortcuts go to the active window, as they do for a person at the keyboard.
-  window_->activateWindow();
-  QVERIFY(QTest::qWaitForWindowActive(window_.get()));
-}
+void TestTuning::makeWindow() { QVERIFY(bench_.restart()); }
 
 void TestTuning::press(int key, Qt::KeyboardModifiers modifiers) { vaw::guitest::pressKey(window_.get(), key, modifiers); }
 
@@ -169,20 +164,13 @@ void TestTuning::cleanup() {
 }
 
 void TestTuning::cleanupTestCase() {
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 void TestTuning::open(const QString& path) {
   // Whatever the previous test tuned is dropped without a question.
-  window_->undoStack()->setClean();
-  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
-  window_->openFile(path);
-  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
-  QVERIFY(sim().hasWorld());
+  QVERIFY(bench_.open(path));
   sim().setSpeed(1.0);
-  QVERIFY(!vaw::guitest::capture(viewport()).isNull());
 }
 
 void TestTuning::show(QDockWidget* dock) {
@@ -212,6 +200,11 @@ void TestTuning::pressAndDrag(const QPoint& from, const QPoint& to, int steps, i
   vaw::guitest::pressAndDrag(viewport()->view3d(), from, to, steps, msPerStep);
 }
 
+void TestTuning::holdStill(double seconds) {
+  const double until = world().time() + seconds;
+  QVERIFY2(QTest::qWaitFor([&] { return world().time() >= until; }, kSettle), "the simulation stood still");
+}
+
 void TestTuning::shot(QWidget* widget, const QString& name) { vaw::guitest::shot(window_.get(), widget, name); }
 
 std::pair<double, double> TestTuning::dropSleeve() {
@@ -228,8 +221,9 @@ std::pair<double, double> TestTuning::dropSleeve() {
   const QPoint up = viewport()->projectToWindow(world().part(sleeve).pose.translation() + Eigen::Vector3d(0, 0, 1.0)).toPoint() -
                     viewport()->projectToWindow(world().part(sleeve).pose.translation()).toPoint();
   pressAndDrag(from, from + up, 16, 30);
-  // Held still longer than the release estimator's window: it lets go with no velocity.
-  QTest::qWait(600);
+  // Held still longer than the release estimator's window (80 ms of simulated time, however slowly the
+  // loaded machine simulates it): it lets go with no velocity.
+  holdStill(0.3);
   const double zHeld = world().part(sleeve).pose.translation().z();
   QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, from + up);
   const auto landed = [&] { return stateOf(world(), sleeve) == QStringLiteral("STATIC") && world().transitions().back().part == sleeve; };
@@ -255,7 +249,7 @@ void TestTuning::quarterFreeFlightScaleDoublesTheDropTime() {
   auto* factor = gravity->findChild<QDoubleSpinBox*>(QStringLiteral("gravityFreeFlight"));
   QVERIFY(factor != nullptr);
   setSpin(factor, QStringLiteral("1"));
-  QTRY_COMPARE(world().settings().gravity.freeFlight, 1.0);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().gravity.freeFlight, 1.0, kSettle);
   QCOMPARE(gravity->findChild<QDoubleSpinBox*>(QStringLiteral("gravityFreeFlightMs2"))->value(),
            std::round(vaw::kStandardGravity * 1000.0) / 1000.0);
   const PartId sleeve = *assembly().findPart("sleeve");
@@ -265,10 +259,10 @@ void TestTuning::quarterFreeFlightScaleDoublesTheDropTime() {
   shot(gravity, QStringLiteral("tuning-gravity.png"));
 
   press(Qt::Key_R, Qt::ControlModifier);  // Simulation > Reset
-  QTRY_VERIFY(std::abs(world().part(sleeve).pose.translation().z() - start) < 1e-12);
+  QTRY_VERIFY_WITH_TIMEOUT(std::abs(world().part(sleeve).pose.translation().z() - start) < 1e-12, kSettle);
   QCOMPARE(world().settings().gravity.freeFlight, 1.0);  // Reset keeps the tuning
   QTest::mouseClick(gravity->findChild<QPushButton*>(QStringLiteral("gravityPresetPaper")), Qt::LeftButton);
-  QTRY_COMPARE(world().settings().gravity.freeFlight, 0.25);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().gravity.freeFlight, 0.25, kSettle);
   QCOMPARE(factor->value(), 0.25);
   const auto [tQuarter, hQuarter] = dropSleeve();
   QVERIFY2(tQuarter > 0.0, "the sleeve fell and landed");
@@ -298,7 +292,7 @@ void TestTuning::headDemandCalculatorAppliesItsScale() {
   auto* apply = gravity->findChild<QPushButton*>(QStringLiteral("headApply"));
   QVERIFY(apply->text().contains(QString::number(r.recommendedScale, 'g', 3)));
   QTest::mouseClick(apply, Qt::LeftButton);
-  QTRY_VERIFY(std::abs(world().settings().gravity.freeFlight - r.recommendedScale) < 1e-12);
+  QTRY_VERIFY_WITH_TIMEOUT(std::abs(world().settings().gravity.freeFlight - r.recommendedScale) < 1e-12, kSettle);
   shot(gravity, QStringLiteral("tuning-head-demand.png"));
 }
 
@@ -315,12 +309,12 @@ void TestTuning::putBlockOnPlate() {
   const QPoint to = viewport()->projectToWindow(Eigen::Vector3d(0.0, 0.0, grabbed.z())).toPoint() +
                     (from - viewport()->projectToWindow(grabbed).toPoint());
   pressAndDrag(from, to, 10, 25);
-  QTest::qWait(250);
+  holdStill(0.15);
   QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, to);
   QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("STATIC"), 5000);
   const QPoint at = onPart(block);
   pressAndDrag(at, at + QPoint(14, 0), 4, 25);
-  QTest::qWait(150);
+  holdStill(0.15);
   QTest::mouseRelease(viewport()->view3d(), Qt::LeftButton, {}, at + QPoint(14, 0));
   QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("ONBASESTATIC"), 5000);
 }
@@ -337,15 +331,15 @@ void TestTuning::staticFrictionMovesTheTiltWhereTheBlockStarts() {
   const int row = model->materialRow("aluminium");
   QVERIFY(row >= 0);
   editCell(friction->view(), row, vaw::ui::FrictionModel::StaticColumn, QStringLiteral("0.5"));
-  QTRY_COMPARE(world().friction(block).staticFriction, 0.5);
+  QTRY_COMPARE_WITH_TIMEOUT(world().friction(block).staticFriction, 0.5, kSettle);
   QCOMPARE(model->index(row, vaw::ui::FrictionModel::StaticAngleColumn).data().toString(), QStringLiteral("26.57°"));
   shot(friction, QStringLiteral("tuning-friction.png"));
 
   auto* tilt = window_->controlsDock()->tiltX();
   show(window_->controlsDock());
   setSpin(tilt, QStringLiteral("26.5"));
-  QTRY_VERIFY_WITH_TIMEOUT(std::abs(sim().baseAngles().tiltX - 26.5 * kDeg) < 1e-9, 4000);
-  QTest::qWait(500);
+  QTRY_VERIFY_WITH_TIMEOUT(std::abs(sim().baseAngles().tiltX - 26.5 * kDeg) < 1e-9, kSettle);
+  holdStill(0.5);  // half a second of simulated time at 26.5 degrees
   QCOMPARE(stateOf(world(), block), QStringLiteral("ONBASESTATIC"));
   setSpin(tilt, QStringLiteral("26.65"));
   QTRY_COMPARE_WITH_TIMEOUT(stateOf(world(), block), QStringLiteral("ONBASESLIDE"), 3000);
@@ -387,28 +381,28 @@ void TestTuning::invalidFrictionIsRefusedAndUndoRestores() {
   QVERIFY(window_->statusBar()->currentMessage().startsWith(QStringLiteral("Refused")));
 
   editCell(friction->view(), row, Col::StaticColumn, QStringLiteral("0.42"));
-  QTRY_COMPARE(world().materialFriction("brass").staticFriction, 0.42);
+  QTRY_COMPARE_WITH_TIMEOUT(world().materialFriction("brass").staticFriction, 0.42, kSettle);
   QVERIFY(model->problem(row, Col::StaticColumn).isEmpty());
   QVERIFY(window_->hasUnsavedChanges());
   QVERIFY(window_->windowTitle().contains(QStringLiteral("*")) || window_->isWindowModified());
   press(Qt::Key_Z, Qt::ControlModifier);
-  QTRY_COMPARE(world().materialFriction("brass"), before);
+  QTRY_COMPARE_WITH_TIMEOUT(world().materialFriction("brass"), before, kSettle);
   QCOMPARE(model->index(row, Col::StaticColumn).data(Qt::EditRole).toString(), QStringLiteral("0.25"));
   press(Qt::Key_Z, Qt::ControlModifier | Qt::ShiftModifier);
-  QTRY_COMPARE(world().materialFriction("brass").staticFriction, 0.42);
+  QTRY_COMPARE_WITH_TIMEOUT(world().materialFriction("brass").staticFriction, 0.42, kSettle);
   // Every one of these was recorded in the session as an edit with its step.
   QVERIFY(world().edits().size() >= 3);
 
   // A part's own friction: checking its row gives it its material's values, to edit on their own.
   const PartId sleeve = *assembly().findPart("sleeve");
   viewport()->selectPart(sleeve);
-  QTRY_VERIFY(model->partRow() >= 0);
+  QTRY_VERIFY_WITH_TIMEOUT(model->partRow() >= 0, kSettle);
   const int prow = model->partRow();
   const QRect box = friction->view()->visualRect(model->index(prow, Col::NameColumn));
   QTest::mouseClick(friction->view()->viewport(), Qt::LeftButton, {}, QPoint(box.left() + 10, box.center().y()));
-  QTRY_COMPARE(model->index(prow, Col::NameColumn).data(Qt::CheckStateRole).toInt(), static_cast<int>(Qt::Checked));
+  QTRY_COMPARE_WITH_TIMEOUT(model->index(prow, Col::NameColumn).data(Qt::CheckStateRole).toInt(), static_cast<int>(Qt::Checked), kSettle);
   editCell(friction->view(), prow, Col::KineticColumn, QStringLiteral("0.1"));
-  QTRY_COMPARE(world().friction(sleeve).kineticFriction, 0.1);
+  QTRY_COMPARE_WITH_TIMEOUT(world().friction(sleeve).kineticFriction, 0.1, kSettle);
   QCOMPARE(world().materialFriction("brass").kineticFriction, before.kineticFriction);
 }
 
@@ -425,7 +419,7 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   const PartId gear = *assembly().findPart("gear");
   QCOMPARE(stateOf(world(), gear), QStringLiteral("ONBASESLIDE"));
   selectInTree(QStringLiteral("gear"));
-  QTRY_COMPARE(sim().selected(), std::optional<PartId>(gear));
+  QTRY_COMPARE_WITH_TIMEOUT(sim().selected(), std::optional<PartId>(gear), kSettle);
   QVERIFY(window_->stabilityWarning().isEmpty());  // rk4 at 90 Hz
 
   // The swing's energy above hanging still: the hinge's kinetic and potential energy.
@@ -441,14 +435,14 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   QVERIFY(combo != nullptr && rate != nullptr);
   QCOMPARE(combo->findText(QStringLiteral("exact")), -1);  // a method rotation cannot use is not offered
   setSpin(rate, QStringLiteral("30"));
-  QTRY_COMPARE(world().settings().rate, 30.0);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().rate, 30.0, kSettle);
   combo->setFocus();
   const int paper = combo->findText(QStringLiteral("paper-explicit"));
   QVERIFY(paper >= 0);
   while (combo->currentIndex() > paper) QTest::keyClick(combo, Qt::Key_Up);
-  QTRY_COMPARE(world().settings().rotationMethod, vaw::dyn::Method::PaperExplicit);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().rotationMethod, vaw::dyn::Method::PaperExplicit, kSettle);
   const double tWarned = world().time();
-  QTRY_VERIFY(!window_->stabilityWarning().isEmpty());
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->stabilityWarning().isEmpty(), kSettle);
   QVERIFY2(window_->stabilityWarning().contains(QStringLiteral("unstable (use rk4")), qPrintable(window_->stabilityWarning()));
   QVERIFY(methods->stabilityLabel()->text().contains(QStringLiteral("UNSTABLE")));
   QVERIFY(window_->partDock()->model()->value(QStringLiteral("Stability")).contains(QStringLiteral("UNSTABLE")));
@@ -462,7 +456,7 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   QTRY_VERIFY_WITH_TIMEOUT(swing() > e0 + 0.01, 6000);
   sim().pause();
   // The motion chart shows it: the recorded past replayed (from 0 s) and the growth sampled live.
-  QTRY_VERIFY(!window_->motionDock()->samples().empty());
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->motionDock()->samples().empty(), kSettle);
   const auto& samples = window_->motionDock()->samples();
   QCOMPARE(samples.begin()->second.t, 0.0);
   double after = -1e300;
@@ -474,7 +468,7 @@ void TestTuning::unstableMethodWarnsBeforeTheGearGainsEnergy() {
   auto* suggestion = methods->findChild<QPushButton*>(QStringLiteral("applyStabilitySuggestion"));
   QVERIFY(suggestion->isVisible());
   QTest::mouseClick(suggestion, Qt::LeftButton);
-  QTRY_VERIFY(window_->stabilityWarning().isEmpty());
+  QTRY_VERIFY_WITH_TIMEOUT(window_->stabilityWarning().isEmpty(), kSettle);
   QCOMPARE(world().settings().rotationMethod, vaw::dyn::Method::RK4);
 }
 
@@ -502,7 +496,7 @@ void TestTuning::workPrecisionChartOfTheSelectedGear() {
   sim().seek(sim().recorder().stepAt(2.5));
   const PartId gear = *assembly().findPart("gear");
   selectInTree(QStringLiteral("gear"));
-  QTRY_COMPARE(sim().selected(), std::optional<PartId>(gear));
+  QTRY_COMPARE_WITH_TIMEOUT(sim().selected(), std::optional<PartId>(gear), kSettle);
   auto* dock = window_->workPrecisionDock();
   show(dock);
   const std::string scenario = vaw::ui::WorkPrecisionDock::scenarioFor(world(), gear);
@@ -569,8 +563,8 @@ void TestTuning::workPrecisionChartOfTheSelectedGear() {
   QVERIFY(verlet >= 0);
   while (combo->currentIndex() > verlet) QTest::keyClick(combo, Qt::Key_Up);
   while (combo->currentIndex() < verlet) QTest::keyClick(combo, Qt::Key_Down);
-  QTRY_COMPARE(world().settings().rotationMethod, vaw::dyn::Method::VelocityVerlet);
-  QTRY_COMPARE(ring() ? ring()->name() : QString(), QStringLiteral("now: velocity-verlet at 90 Hz"));
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().rotationMethod, vaw::dyn::Method::VelocityVerlet, kSettle);
+  QTRY_COMPARE_WITH_TIMEOUT(ring() ? ring()->name() : QString(), QStringLiteral("now: velocity-verlet at 90 Hz"), kSettle);
   QCOMPARE(finished.count(), 1);
 
   // Cancel: the measurement stops, the chart keeps what it had.
@@ -593,7 +587,7 @@ void TestTuning::failedWritesAreReportedNotFatal() {
   auto* methods = window_->methodsDock();
   show(methods);
   setSpin(methods->findChild<QSpinBox*>(QStringLiteral("stepRate")), QStringLiteral("120"));
-  QTRY_COMPARE(world().settings().rate, 120.0);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().rate, 120.0, kSettle);
   QVERIFY(window_->hasUnsavedChanges());
   const QString missing = dir_.filePath(QStringLiteral("no-such-folder"));
   QVERIFY(!window_->saveScene(missing + QStringLiteral("/tuned.vaw.json")));
@@ -612,14 +606,14 @@ void TestTuning::savedSettingsReopenAndOldFilesOpen() {
   open(bundled(QStringLiteral("sleeve-on-shaft.vaw.json")));
   show(window_->gravityDock());
   setSpin(window_->gravityDock()->findChild<QDoubleSpinBox*>(QStringLiteral("gravitySlide")), QStringLiteral("0.5"));
-  QTRY_COMPARE(world().settings().gravity.slide, 0.5);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().gravity.slide, 0.5, kSettle);
   show(window_->frictionDock());
   editCell(window_->frictionDock()->view(), window_->frictionDock()->model()->materialRow("brass"),
            vaw::ui::FrictionModel::KineticColumn, QStringLiteral("0.11"));
-  QTRY_COMPARE(world().materialFriction("brass").kineticFriction, 0.11);
+  QTRY_COMPARE_WITH_TIMEOUT(world().materialFriction("brass").kineticFriction, 0.11, kSettle);
   show(window_->methodsDock());
   setSpin(window_->methodsDock()->findChild<QSpinBox*>(QStringLiteral("stepRate")), QStringLiteral("120"));
-  QTRY_COMPARE(world().settings().rate, 120.0);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().rate, 120.0, kSettle);
   QVERIFY(window_->hasUnsavedChanges());
 
   const QString target = dir_.filePath(QStringLiteral("tuned.vaw.json"));
@@ -633,7 +627,7 @@ void TestTuning::savedSettingsReopenAndOldFilesOpen() {
     QTest::keyClick(name, Qt::Key_Return);
   });
   press(Qt::Key_S, Qt::ControlModifier | Qt::AltModifier);  // File > Save As
-  QTRY_VERIFY(QFile::exists(target));
+  QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(target), kSettle);
   QVERIFY(!window_->hasUnsavedChanges());
 
   // The bundled original has no settings block: it opens with the defaults.
@@ -665,7 +659,7 @@ void TestTuning::unsavedTuningIsAskedAbout() {
   open(bundled(QStringLiteral("sleeve-on-shaft.vaw.json")));
   show(window_->gravityDock());
   QTest::mouseClick(window_->gravityDock()->findChild<QPushButton*>(QStringLiteral("gravityPresetReal")), Qt::LeftButton);
-  QTRY_COMPARE(world().settings().gravity.freeFlight, 1.0);
+  QTRY_COMPARE_WITH_TIMEOUT(world().settings().gravity.freeFlight, 1.0, kSettle);
   QVERIFY(window_->hasUnsavedChanges());
   const QString current = controller_->currentPath();
   bool asked = false;

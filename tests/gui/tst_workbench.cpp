@@ -94,31 +94,25 @@ class TestWorkbench : public QObject {
   double nonBackgroundFraction(const QImage& image) const;
   QPoint pointOnPart(PartId part);
 
-  std::unique_ptr<AssemblyController> controller_;
-  std::unique_ptr<MainWindow> window_;
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
   std::vector<std::unique_ptr<QAbstractItemModelTester>> testers_;
 };
 
 void TestWorkbench::initTestCase() {
-  vaw::guitest::failOnWarnings();
-
-  controller_ = std::make_unique<AssemblyController>();
-  QVERIFY2(!controller_->importers().importerNames().empty(),
-           qPrintable(controller_->pluginMessages().join(QLatin1Char('\n'))));
-  window_ = std::make_unique<MainWindow>(*controller_);
   // Every model is checked for the whole run, through every reset and insertion.
   const auto test = [this](QAbstractItemModel* model) {
     testers_.push_back(std::make_unique<QAbstractItemModelTester>(
         model, QAbstractItemModelTester::FailureReportingMode::QtTest));
   };
-  test(window_->sceneDock()->model());
-  test(window_->partDock()->model());
-  test(window_->messagesDock()->model());
-
-  window_->resize(1200, 760);
-  window_->show();
-  QVERIFY(QTest::qWaitForWindowExposed(window_.get()));
-  QVERIFY(QTest::qWaitForWindowExposed(viewport()->view3d()));
+  QVERIFY(bench_.start({.clearSettings = false, .autoPlay = std::nullopt, .size = {1200, 760}, .activate = false}, [&](MainWindow& window) {
+    test(window.sceneDock()->model());
+    test(window.partDock()->model());
+    test(window.messagesDock()->model());
+  }));
+  QVERIFY2(!controller_->importers().importerNames().empty(),
+           qPrintable(controller_->pluginMessages().join(QLatin1Char('\n'))));
 
   const QString path = QFile::decodeName(vaw::defaultScenePath().string().c_str());
   QVERIFY2(QFile::exists(path), qPrintable(path));
@@ -134,9 +128,7 @@ void TestWorkbench::cleanup() { vaw::guitest::verifyNoWarnings(); }
 
 void TestWorkbench::cleanupTestCase() {
   testers_.clear();
-  window_.reset();
-  controller_.reset();
-  vaw::guitest::restoreMessageHandler();
+  bench_.stop();
 }
 
 QImage TestWorkbench::capture() { return vaw::guitest::capture(viewport()); }
