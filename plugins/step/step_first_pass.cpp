@@ -11,10 +11,13 @@
 namespace vaw::step {
 namespace {
 
+// "1e12", "1e100": as a person writes a limit.
 std::string number(double v) {
   std::ostringstream o;
   o << v;
-  return o.str();
+  std::string s = o.str();
+  if (const std::size_t e = s.find("e+"); e != std::string::npos) s.erase(e + 1, 1);
+  return s;
 }
 
 std::string count(double v) {
@@ -250,14 +253,14 @@ class Pass {
       // Out of range is also an underflow (1e-400), which is a harmless zero.
       const std::size_t e = digits.find_first_of("eE");
       if (e != std::string_view::npos && digits.substr(e + 1).starts_with('-')) return;
-      refuse(std::string(id) + " " + type, "finite numbers within +-" + number(limits_.maxNumber), where());
+      refuse(std::string(id) + " " + type, "finite numbers within ±" + number(limits_.maxNumber), where());
     }
     if (point && std::abs(v) > limits_.maxCoordinate)
       refuse(std::string(id) + " " + type,
-             "coordinates within +-" + number(limits_.maxCoordinate) + " of the file's length unit", where());
+             "coordinates within ±" + number(limits_.maxCoordinate) + " of the file's length unit", where());
     if (std::abs(v) > limits_.maxNumber)
       refuse(std::string(id) + " " + type,
-             "numbers within +-" + number(limits_.maxNumber) + " (Open CASCADE takes larger ones for infinity)", where());
+             "numbers within ±" + number(limits_.maxNumber) + " (Open CASCADE takes larger ones for infinity)", where());
   }
 
   // Expands the tree of NEXT_ASSEMBLY_USAGE_OCCURRENCEs: each product definition's instances are the sum,

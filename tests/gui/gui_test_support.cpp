@@ -5,6 +5,9 @@
 #include <Qt3DRender/QRenderCapture>
 #include <QRegularExpression>
 #include <QApplication>
+#include <QDialogButtonBox>
+#include <QFileDialog>
+#include <QPushButton>
 #include <QLineEdit>
 #include <QMainWindow>
 #include <QMenu>
@@ -156,6 +159,23 @@ void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers) {
   }
   QWidget* target = QApplication::focusWidget() != nullptr ? QApplication::focusWidget() : window;
   QTest::keyClick(target, static_cast<Qt::Key>(key), modifiers);
+}
+
+void answerFileDialog(QWidget* modal, const QString& path) {
+  auto* dialog = qobject_cast<QFileDialog*>(modal);
+  QVERIFY2(dialog != nullptr, "the modal dialog is a file dialog");
+  auto* name = dialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));
+  QVERIFY(name != nullptr);
+  name->setCompleter(nullptr);
+  QTest::keyClick(name, Qt::Key_A, Qt::ControlModifier);
+  QTest::keyClicks(name, path);
+  auto* buttons = dialog->findChild<QDialogButtonBox*>(QStringLiteral("buttonBox"));
+  QVERIFY(buttons != nullptr);
+  QPushButton* accept = nullptr;
+  for (QAbstractButton* b : buttons->buttons())
+    if (buttons->buttonRole(b) == QDialogButtonBox::AcceptRole) accept = qobject_cast<QPushButton*>(b);
+  QVERIFY2(accept != nullptr && accept->isEnabled(), "the dialog's Save or Open button can be clicked");
+  QTest::mouseClick(accept, Qt::LeftButton);
 }
 
 void shot(QMainWindow* window, QWidget* widget, const QString& name) {

@@ -104,6 +104,11 @@ void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers = {}
 // shown, or null when it does not show within 5 s.
 QMenu* openSceneTreeMenu(ui::MainWindow& window, PartId part);
 // Where screenshots go (the build tree's tests/gui).
+// Answers an open Save or Open file dialog as a person does: `path` typed into its file name field, then its
+// Save (Open) button clicked. The field's completer is taken off first: its popup, when a loaded machine
+// shows it late, takes the key or the click meant for the dialog and leaves the dialog open for ever.
+void answerFileDialog(QWidget* modal, const QString& path);
+
 QString shotPath(const QString& name);
 // Saves a screenshot of `widget` (the whole window as the screen shows it, when it is `window`).
 void shot(QMainWindow* window, QWidget* widget, const QString& name);

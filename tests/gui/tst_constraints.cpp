@@ -301,15 +301,7 @@ void TestConstraints::reviewUndoSaveAndReopen() {
   // File > Save As, through its dialog.
   saved_ = dir_.filePath(QStringLiteral("reviewed.vaw.json"));
   const QString target = saved_;
-  whenModal([target](QWidget* w) {
-    auto* dialog = qobject_cast<QFileDialog*>(w);
-    QVERIFY(dialog != nullptr);
-    auto* name = dialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));
-    QVERIFY(name != nullptr);
-    QTest::keyClick(name, Qt::Key_A, Qt::ControlModifier);
-    QTest::keyClicks(name, target);
-    QTest::keyClick(name, Qt::Key_Return);
-  });
+  whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
   vaw::guitest::pressKey(window_.get(), Qt::Key_S, Qt::ControlModifier | Qt::AltModifier);
   QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(saved_), kSettle);
   QVERIFY(!window_->hasUnsavedChanges());

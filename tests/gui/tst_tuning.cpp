@@ -617,15 +617,7 @@ void TestTuning::savedSettingsReopenAndOldFilesOpen() {
   QVERIFY(window_->hasUnsavedChanges());
 
   const QString target = dir_.filePath(QStringLiteral("tuned.vaw.json"));
-  whenModal([target](QWidget* w) {
-    auto* dialog = qobject_cast<QFileDialog*>(w);
-    QVERIFY(dialog != nullptr);
-    auto* name = dialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));
-    QVERIFY(name != nullptr);
-    QTest::keyClick(name, Qt::Key_A, Qt::ControlModifier);
-    QTest::keyClicks(name, target);
-    QTest::keyClick(name, Qt::Key_Return);
-  });
+  whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
   press(Qt::Key_S, Qt::ControlModifier | Qt::AltModifier);  // File > Save As
   QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(target), kSettle);
   QVERIFY(!window_->hasUnsavedChanges());
