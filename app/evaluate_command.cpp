@@ -165,9 +165,7 @@ int evaluate(const EvaluateArgs& args) {
   try {
     LoadOptions options;
     if (!args.up.empty()) options.cadUp = args.up;
-    options.import.timeoutSeconds = args.reader.timeoutSeconds;
-    options.import.readerMemoryMB = args.reader.memoryMB;
-    options.import.maxInstances = args.reader.maxInstances;
+    options.import = args.import;
     const Assembly a = loadAny(resolveScenePath(args.file), importers, options, progress);
     const auto start = std::chrono::steady_clock::now();
     const eval::SequencePlan plan = eval::planSequence(a, {}, progress);

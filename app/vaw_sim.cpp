@@ -149,10 +149,10 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
 }
 
 
-void addReaderLimits(CLI::App* cmd, vaw::app::ReaderLimits& limits) {
+void addReaderLimits(CLI::App* cmd, vaw::ImportOptions& limits) {
   cmd->add_option("--timeout", limits.timeoutSeconds, "STEP files: seconds the reader may take (default 300)")
       ->check(CLI::Range(0.01, 86400.0));
-  cmd->add_option("--reader-memory", limits.memoryMB, "STEP files: the reader's memory limit in MB (default: half the machine's)")
+  cmd->add_option("--reader-memory", limits.readerMemoryMB, "STEP files: the reader's memory limit in MB (default: half the machine's)")
       ->check(CLI::Range(64.0, 1e7));
   cmd->add_option("--max-instances", limits.maxInstances,
                   "STEP files: part instances a file may declare, its assembly tree expanded (default 10000)")
@@ -163,18 +163,14 @@ struct InspectArgs {
   std::string file;
   bool json = false;
   std::string categories = "default";
-  double deflection = vaw::ImportOptions{}.relativeDeflection;
   std::string up;
-  vaw::app::ReaderLimits reader;
+  vaw::ImportOptions import;  // STEP files: tessellation and the reader's limits
 };
 
 int inspect(const InspectArgs& args) {
   vaw::LoadOptions options;
-  options.import.relativeDeflection = args.deflection;
+  options.import = args.import;
   if (!args.up.empty()) options.cadUp = args.up;
-  options.import.timeoutSeconds = args.reader.timeoutSeconds;
-  options.import.readerMemoryMB = args.reader.memoryMB;
-  options.import.maxInstances = args.reader.maxInstances;
   if (!vaw::CategorySettings::byName(args.categories, options.categories)) return 2;  // the parser allows known names only
   vaw::ImporterRegistry importers;
   for (const auto& dir : vaw::ImporterRegistry::defaultPluginDirs())
@@ -250,13 +246,13 @@ int dispatch(int argc, char** argv) {
   inspectCmd->add_option("--categories", ins.categories, "Lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)")
       ->check(CLI::IsMember({"default", "stricter"}));
   inspectCmd
-      ->add_option("--deflection", ins.deflection,
+      ->add_option("--deflection", ins.import.relativeDeflection,
                    "STEP files: the tessellation's chordal deflection as a fraction of each part's size (default 0.001)")
       ->check(CLI::Range(1e-5, 0.1));
   inspectCmd->add_option("--up", ins.up, "CAD files: which way the assembly stands: auto (the base on its most stable face, "
                                          "the default) or the file's axis that points up: +x, -x, +y, -y, +z, -z")
       ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
-  addReaderLimits(inspectCmd, ins.reader);
+  addReaderLimits(inspectCmd, ins.import);
   inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
 
   bool dot = false;
@@ -298,7 +294,7 @@ int dispatch(int argc, char** argv) {
       ->type_name("DIR");
   evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default) or the file's axis that points up")
       ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
-  addReaderLimits(evCmd, ev.reader);
+  addReaderLimits(evCmd, ev.import);
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 
   vaw::app::WorkPrecisionArgs wp;

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -31,12 +29,8 @@ std::string lower(std::string s) {
 // The Part 21 header, checked before OCCT sees the file: OCCT ignores FILE_SCHEMA (an IFC file loads as
 // AP214) and says nothing useful about a file cut short.
 
-std::string checkHeader(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw BadFile{"", "an existing, readable file", "cannot open it"};
-  std::string head(256 * 1024, '\0');
-  in.read(head.data(), static_cast<std::streamsize>(head.size()));
-  head.resize(static_cast<std::size_t>(in.gcount()));
+std::string checkHeader(const std::string& text) {
+  const std::string head = text.substr(0, 256 * 1024);
   if (head.rfind("\xEF\xBB\xBF", 0) == 0)
     throw BadFile{"", "a STEP file starting with ISO-10303-21;",
                   "a UTF-8 byte-order mark first (Open CASCADE refuses it; remove the first 3 bytes)"};
@@ -76,13 +70,8 @@ std::string checkHeader(const std::filesystem::path& file) {
   }
 
   // A file cut short (an interrupted download or copy) lacks the closing keyword.
-  in.clear();
-  in.seekg(0, std::ios::end);
-  const std::streamoff size = in.tellg();
-  const std::streamoff tailSize = std::min<std::streamoff>(size, 4096);
-  std::string tail(static_cast<std::size_t>(tailSize), '\0');
-  in.seekg(size - tailSize);
-  in.read(tail.data(), tailSize);
+  const std::size_t size = text.size();
+  std::string tail = text.substr(size - std::min<std::size_t>(size, 4096));
   while (!tail.empty() && std::isspace(static_cast<unsigned char>(tail.back()))) tail.pop_back();
   if (upper(tail).size() < 17 || upper(tail).compare(tail.size() - 17, 17, "END-ISO-10303-21;") != 0) {
     const bool inData = up.find("DATA;") != std::string::npos && upper(tail).rfind("ENDSEC;") == std::string::npos;

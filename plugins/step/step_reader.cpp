@@ -122,9 +122,19 @@ std::string entry(const TDF_Label& label) {
 // `scratch`: a private folder for the rewritten copy, when the first pass rewrites the file.
 json Reader::read(const std::filesystem::path& file, const std::filesystem::path& scratch) {
   progress(0.0, "checking the header");
-  const std::string format = checkHeader(file);
-  progress(0.01, "first pass over " + file.filename().string());
-  const std::filesystem::path toRead = firstPass(file, scratch);
+  std::filesystem::path toRead;
+  std::string format;
+  {
+    // Read once for both checks; the text is gone before Open CASCADE reads the file again.
+    std::ifstream in(file, std::ios::binary);
+    if (!in) throw BadFile{"", "an existing, readable file", "cannot open it"};
+    std::ostringstream all;
+    all << in.rdbuf();
+    const std::string text = std::move(all).str();
+    format = checkHeader(text);
+    progress(0.01, "first pass over " + file.filename().string());
+    toRead = firstPass(text, file, scratch);
+  }
 
   Handle(Collector) collector = new Collector();
   Message::DefaultMessenger()->ChangePrinters().Clear();
@@ -267,14 +277,8 @@ std::optional<json> Reader::emit(const Node& n, const std::vector<int>& index) c
 
 // Refuses what Open CASCADE would spend minutes on and rewrites what it would crash on (step_first_pass.hpp);
 // the user's file is never written.
-std::filesystem::path Reader::firstPass(const std::filesystem::path& file, const std::filesystem::path& scratch) const {
-  std::string text;
-  {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream all;
-    all << in.rdbuf();
-    text = std::move(all).str();
-  }
+std::filesystem::path Reader::firstPass(const std::string& text, const std::filesystem::path& file,
+                                        const std::filesystem::path& scratch) const {
   vaw::step::FirstPassResult pass;
   try {
     pass = vaw::step::firstPass(text, limits_);

@@ -45,8 +45,9 @@ void progress(double fraction, const std::string& stage);
 std::string upper(std::string s);
 std::string lower(std::string s);
 
-// The Part 21 header: a STEP file of a schema vaw reads, complete. Returns the format ("STEP AP214").
-std::string checkHeader(const std::filesystem::path& file);
+// The Part 21 header of a file's text: a STEP file of a schema vaw reads, complete. Returns the format
+// ("STEP AP214").
+std::string checkHeader(const std::string& text);
 
 struct FaceOut {
   vaw::step::SurfaceKind surface = vaw::step::SurfaceKind::Other;
@@ -99,7 +100,9 @@ class Reader {
   std::optional<json> emit(const Node& n, const std::vector<int>& index) const;
   // Refuses what Open CASCADE would spend minutes on and rewrites what it would crash on (step_first_pass.hpp);
   // the user's file is never written.
-  std::filesystem::path firstPass(const std::filesystem::path& file, const std::filesystem::path& scratch) const;
+  // Returns the file Open CASCADE is to read: `file`, or its rewritten copy in `scratch`.
+  std::filesystem::path firstPass(const std::string& text, const std::filesystem::path& file,
+                                  const std::filesystem::path& scratch) const;
 
   double relativeDeflection_, angularDeflection_;
   vaw::step::FirstPassLimits limits_;

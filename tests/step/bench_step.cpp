@@ -133,14 +133,7 @@ std::string readText(const fs::path& f) {
 // (refused).
 void BM_StepFirstPass(benchmark::State& state) {
   std::string text = readText(state.range(0) == 1 ? manyParts(true) : sample());
-  if (state.range(0) == 2) {
-    const std::size_t use = text.find("NEXT_ASSEMBLY_USAGE_OCCURRENCE(");
-    const std::size_t start = text.rfind("\n#", use) + 1, end = text.find(";\n", use) + 2;
-    const std::string body = text.substr(text.find('=', start), end - text.find('=', start));
-    std::string bomb = text.substr(0, end);
-    for (int i = 0; i < 20000; ++i) bomb += "#" + std::to_string(900000 + i) + " " + body;
-    text = bomb + text.substr(end);
-  }
+  if (state.range(0) == 2) text = vaw::steptest::withMoreUses(text, 20000);
   for (auto _ : state) {
     try {
       benchmark::DoNotOptimize(vaw::step::firstPass(text));

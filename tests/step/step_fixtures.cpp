@@ -344,4 +344,15 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style)
   w.write(file, style.schema, style.inches);
 }
 
+std::string withMoreUses(const std::string& text, int copies) {
+  const std::size_t use = text.find("NEXT_ASSEMBLY_USAGE_OCCURRENCE(");
+  if (use == std::string::npos) throw std::invalid_argument("no NEXT_ASSEMBLY_USAGE_OCCURRENCE in the text");
+  const std::size_t start = text.rfind("\n#", use) + 1, end = text.find(";\n", use) + 2;
+  const std::size_t equals = text.find('=', start);
+  const std::string body = text.substr(equals, end - equals);
+  std::string out = text.substr(0, end);
+  for (int i = 0; i < copies; ++i) out += "#" + std::to_string(900000 + i) + " " + body;
+  return out + text.substr(end);
+}
+
 }  // namespace vaw::steptest

@@ -50,4 +50,9 @@ struct ExportStyle {
 // and 16 mates in all (tests/step/step_fixtures.cpp has every coordinate).
 void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style = {});
 
+// `text` (a STEP file's) with its first NEXT_ASSEMBLY_USAGE_OCCURRENCE written `copies` times more, under new
+// entity numbers from 900000: that many more instances of one product, the "instance bomb" the reader's
+// first pass refuses. Throws std::invalid_argument when the text has no such entity.
+std::string withMoreUses(const std::string& text, int copies);
+
 }  // namespace vaw::steptest

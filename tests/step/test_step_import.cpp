@@ -422,13 +422,7 @@ TEST_F(StepImport, NonFiniteHugeAndInstanceBombFilesAreRefusedAtOnce) {
   huge.replace(value, valueEnd - value, "1.E308");
 
   // The bracket's first NEXT_ASSEMBLY_USAGE_OCCURRENCE 20,000 times over.
-  const std::size_t use = text.find("NEXT_ASSEMBLY_USAGE_OCCURRENCE(");
-  ASSERT_NE(use, std::string::npos);
-  const std::size_t useStart = text.rfind("\n#", use) + 1, useEnd = text.find(";\n", use) + 2;
-  const std::string body = text.substr(text.find('=', useStart), useEnd - text.find('=', useStart));
-  std::string bomb = text.substr(0, useEnd);
-  for (int i = 0; i < 20000; ++i) bomb += "#" + std::to_string(900000 + i) + " " + body;
-  bomb += text.substr(useEnd);
+  const std::string bomb = vaw::steptest::withMoreUses(text, 20000);
 
   for (const auto& [name, content, says] :
        {std::tuple<std::string, std::string, std::string>{"nan.stp", nan, entity + ": expected finite numbers"},
