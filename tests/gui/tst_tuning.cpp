@@ -114,6 +114,7 @@ class TestTuning : public QObject {
   void invalidFrictionIsRefusedAndUndoRestores();
   void unstableMethodWarnsBeforeTheGearGainsEnergy();
   void workPrecisionChartOfTheSelectedGear();
+  void motionChartOfALongSessionStaysBounded();
   void savedSettingsReopenAndOldFilesOpen();
   void failedWritesAreReportedNotFatal();
   void unsavedTuningIsAskedAbout();
@@ -159,7 +160,10 @@ void TestTuning::makeWindow() { QVERIFY(bench_.restart()); }
 void TestTuning::press(int key, Qt::KeyboardModifiers modifiers) { vaw::guitest::pressKey(window_.get(), key, modifiers); }
 
 void TestTuning::cleanup() {
-  if (window_) sim().pause();
+  if (window_) {
+    sim().setExternalPacing(false);  // a test that failed while it paced the world itself
+    sim().pause();
+  }
   vaw::guitest::verifyNoWarnings();
 }
 
@@ -486,6 +490,44 @@ void TestTuning::selectInTree(const QString& name) {
   QVERIFY2(found.isValid(), qPrintable(name));
   tree->scrollTo(found);
   QTest::mouseClick(tree->viewport(), Qt::LeftButton, {}, tree->visualRect(found).center());
+}
+
+// The Motion chart of a long session keeps a bounded number of samples, evenly spread over the whole
+// recording, and still ends where the playhead is: an hour's session must not cost the window more than a
+// minute's (it used to keep one sample per frame for ever).
+void TestTuning::motionChartOfALongSessionStaysBounded() {
+  open(bundled(QStringLiteral("gear-on-shaft.vaw.json")));
+  const PartId gear = *assembly().findPart("gear");
+  selectInTree(QStringLiteral("gear"));
+  QTRY_COMPARE_WITH_TIMEOUT(sim().selected(), std::optional<PartId>(gear), kSettle);
+  // 150 s of session at once, paced here rather than by the clock.
+  sim().setExternalPacing(true);
+  sim().play();
+  const std::uint64_t before = world().stepCount();
+  const auto steps = static_cast<int>(150.0 * world().settings().rate);
+  sim().advance(steps);
+  QCOMPARE(world().stepCount() - before, static_cast<std::uint64_t>(steps));
+  // A chart that comes to the session now fills in its past from a replay, then follows it live.
+  vaw::ui::MotionChartDock chart;
+  chart.follow(sim(), true, false);
+  const auto check = [&](const char* when) {
+    const auto& samples = chart.samples();
+    QVERIFY2(samples.size() <= vaw::ui::MotionChartDock::kMaxSamples && samples.size() > vaw::ui::MotionChartDock::kMaxSamples / 4,
+             qPrintable(QStringLiteral("%1: %2 samples").arg(QLatin1String(when)).arg(samples.size())));
+    QCOMPARE(samples.begin()->first, std::uint64_t{0});
+    std::uint64_t gap = 0;
+    for (auto it = std::next(samples.begin()); it != samples.end(); ++it) gap = std::max(gap, it->first - std::prev(it)->first);
+    QVERIFY2(gap <= 2 * chart.spacing(), qPrintable(QStringLiteral("%1: a gap of %2 steps, spacing %3").arg(QLatin1String(when)).arg(gap).arg(chart.spacing())));
+    QVERIFY2(world().stepCount() - samples.rbegin()->first <= 2 * chart.spacing(), when);
+  };
+  check("replayed");
+  for (int i = 0; i < 3000; ++i) {
+    sim().advance(3);
+    chart.follow(sim(), false, false);
+  }
+  check("live");
+  sim().setExternalPacing(false);
+  sim().pause();
 }
 
 // The work-precision chart of the selected gear, computed in the background from the dock's button: every

@@ -5,6 +5,7 @@
 #include <QtCharts/QLineSeries>
 #include <QtCharts/QValueAxis>
 #include <algorithm>
+#include <iterator>
 #include <limits>
 
 #include "vaw/sim/recorder.hpp"
@@ -65,16 +66,33 @@ MotionChartDock::Sample MotionChartDock::sample(const vaw::sim::World& world, va
   return {world.time(), e.kinetic + e.potential, r.velocity.norm()};
 }
 
+void MotionChartDock::keep(std::uint64_t step, const Sample& x) {
+  // Kept only where no kept sample is within the spacing (a look back at the past finds its steps there).
+  const auto next = samples_.lower_bound(step);
+  if (next != samples_.end() && next->first - step < spacing_) return;
+  if (next != samples_.begin() && step - std::prev(next)->first < spacing_) return;
+  samples_.emplace_hint(next, step, x);
+  if (samples_.size() <= kMaxSamples) return;
+  spacing_ *= 2;
+  bool odd = false;
+  for (auto it = std::next(samples_.begin()); it != samples_.end();) {
+    const bool last = std::next(it) == samples_.end();
+    it = (odd = !odd) && !last ? samples_.erase(it) : std::next(it);
+  }
+}
+
 void MotionChartDock::refill(const SimulationController& simulation) {
   samples_.clear();
+  shown_.reset();
   if (!part_) return;
   // The recording so far, replayed headless: the same inputs and edits give the same states.
   const vaw::sim::Recorder& live = simulation.recorder();
   vaw::sim::Recorder replay(live.scenePtr(), live.session());
-  const std::uint64_t every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(replay.world().settings().rate / 90.0));
-  samples_[0] = sample(replay.world(), *part_);
+  spacing_ = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(replay.world().settings().rate / 90.0));
+  keep(0, sample(replay.world(), *part_));
   while (replay.playNext())
-    if (replay.step() % every == 0 || replay.atEnd()) samples_[replay.step()] = sample(replay.world(), *part_);
+    if (replay.step() % spacing_ == 0) keep(replay.step(), sample(replay.world(), *part_));
+  shown_.emplace(replay.step(), sample(replay.world(), *part_));
 }
 
 void MotionChartDock::follow(const SimulationController& simulation, bool newWorld, bool redraw) {
@@ -91,7 +109,8 @@ void MotionChartDock::follow(const SimulationController& simulation, bool newWor
     // A discarded future leaves the chart too; the step shown now is sampled (live, or a look at the past).
     const std::uint64_t length = simulation.recorder().length();
     samples_.erase(samples_.upper_bound(length), samples_.end());
-    samples_[now] = sample(w, *part_);
+    shown_.emplace(now, sample(w, *part_));
+    keep(now, shown_->second);
   }
   if (redraw) this->redraw(w.time());
 }
@@ -101,14 +120,20 @@ void MotionChartDock::redraw(double now) {
   e.reserve(static_cast<qsizetype>(samples_.size()));
   s.reserve(static_cast<qsizetype>(samples_.size()));
   double eMin = std::numeric_limits<double>::infinity(), eMax = -eMin, sMax = 0.0, tMax = 1.0;
-  for (const auto& [step, x] : samples_) {
+  const auto add = [&](const Sample& x) {
     e.append(QPointF(x.t, x.energy));
     s.append(QPointF(x.t, x.speed));
     eMin = std::min(eMin, x.energy);
     eMax = std::max(eMax, x.energy);
     sMax = std::max(sMax, x.speed);
     tMax = std::max(tMax, x.t);
+  };
+  for (auto it = samples_.begin(); it != samples_.end(); ++it) {
+    // The step shown now in its place, between the kept samples around it.
+    if (shown_ && shown_->first < it->first && (it == samples_.begin() || std::prev(it)->first < shown_->first)) add(shown_->second);
+    add(it->second);
   }
+  if (shown_ && (samples_.empty() || samples_.rbegin()->first < shown_->first)) add(shown_->second);
   energy_->replace(e);
   speed_->replace(s);
   if (samples_.empty()) eMin = 0.0, eMax = 1.0;
