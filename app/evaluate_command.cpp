@@ -91,6 +91,7 @@ json toJson(const Assembly& a, const eval::SequencePlan& plan, double seconds) {
   for (const PartId p : plan.skipped) skipped.push_back(a.parts[p].name);
   j["without_final_pose"] = skipped;
   j["pair_sweeps"] = plan.sweeps;
+  j["pair_sweeps_reused"] = plan.reused;
   j["undecided_sweeps"] = plan.undecided;
   j["checks"] = plan.evaluations;
   j["seconds"] = seconds;
@@ -135,8 +136,9 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
     for (const PartId p : plan.skipped) names += (names.empty() ? "" : ", ") + a.parts[p].name;
     std::printf("\nwithout a final pose, not in the sequence: %s\n", names.c_str());
   }
-  std::printf("\nways home: every part's, swept through the assembly (%d pair sweeps, %d checks, %.2f s)\n", plan.sweeps,
-              plan.evaluations, seconds);
+  std::printf("\nways home: every part's, swept through the assembly (%d pair sweeps, %d more answered by one of the same "
+              "parts placed alike, %d checks, %.2f s)\n",
+              plan.sweeps, plan.reused, plan.evaluations, seconds);
   if (plan.undecided > 0)
     std::printf("  %d sweep%s ran out of their limit undecided: counted as blocked\n", plan.undecided, plan.undecided == 1 ? "" : "s");
   for (const auto& c : plan.checks) {

@@ -51,9 +51,19 @@ fs::path boltedRod(bool proE) {
   return f;
 }
 
+// The tiled product (writeTiledProduct): 5 x 1 tiles (96 parts) or 9 x 6 (1,027 parts, 540 holes in its base).
+fs::path tiled(bool thousand) {
+  const fs::path f = fs::temp_directory_path() / (thousand ? "vaw-bench-tiled-9x6.stp" : "vaw-bench-tiled-5x1.stp");
+  if (!fs::exists(f)) vaw::steptest::writeTiledProduct(f, thousand ? 9 : 5, thousand ? 6 : 1);
+  return f;
+}
+
 // 0: the bundled sample; 1: 100 parts, instances of 5 products; 2: 100 parts, each its own product;
-// 3: the bolted rod, split B-spline cylinders; 4: the bolted rod as Pro/ENGINEER writes it.
-fs::path fileFor(int which) { return which == 0 ? sample() : which <= 2 ? manyParts(which == 2) : boltedRod(which == 4); }
+// 3: the bolted rod, split B-spline cylinders; 4: the bolted rod as Pro/ENGINEER writes it; 5: the tiled
+// product, 96 parts; 6: the tiled product, 1,027 parts.
+fs::path fileFor(int which) {
+  return which == 0 ? sample() : which <= 2 ? manyParts(which == 2) : which <= 4 ? boltedRod(which == 4) : tiled(which == 6);
+}
 
 void BM_StepReader(benchmark::State& state) {
   const fs::path file = fileFor(static_cast<int>(state.range(0)));
@@ -104,6 +114,7 @@ void BM_PlanSequence(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(plan = vaw::eval::planSequence(a));
   state.counters["parts"] = static_cast<double>(a.parts.size());
   state.counters["sweeps"] = plan.sweeps;
+  state.counters["reused"] = plan.reused;
   state.counters["ordered"] = static_cast<double>(plan.order.size());
 }
 
@@ -144,10 +155,10 @@ void BM_StepFirstPass(benchmark::State& state) {
 }
 
 BENCHMARK(BM_StepFirstPass)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

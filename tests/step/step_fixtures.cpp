@@ -3,9 +3,13 @@
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <Interface_Static.hxx>
@@ -14,12 +18,15 @@
 #include <Quantity_Color.hxx>
 #include <STEPCAFControl_Writer.hxx>
 #include <STEPControl_Controller.hxx>
+#include <ShapeFix_Face.hxx>
 #include <ShapeUpgrade_ShapeDivideClosed.hxx>
 #include <ShapeUpgrade_UnifySameDomain.hxx>
 #include <TDataStd_Name.hxx>
 #include <TDocStd_Document.hxx>
 #include <TopLoc_Location.hxx>
+#include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Wire.hxx>
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_ColorTool.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
@@ -27,8 +34,10 @@
 #include <BRepBuilderAPI_Transform.hxx>
 #include <gp_Ax1.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Circ.hxx>
 #include <gp_Trsf.hxx>
 
+#include <array>
 #include <cmath>
 #include <mutex>
 #include <stdexcept>
@@ -280,28 +289,66 @@ void writeCaptiveRing(const std::filesystem::path& file) {
   w.write(file, "AP214", false);
 }
 
+namespace {
+
+// The bolted rod's bolt positions (x, y) in its model: bracket 1's three, then bracket 2's (its flange
+// turned 180 degrees).
+constexpr double kRodBolts[6][2] = {{30, 38}, {30, 62}, {58, 50}, {170, 62}, {170, 38}, {142, 50}};
+// The tiled product's tile pitch and dowel pins (x, y), clear of the brackets' flanges.
+constexpr double kTilePitchX = 210, kTilePitchY = 110;
+constexpr double kTileDowels[4][2] = {{100, 15}, {100, 85}, {8, 8}, {192, 92}};
+
+// The bolted rod's parts but the plate, each in its own frame (step_fixtures.hpp, writeBoltedRod).
+struct RodUnitShapes {
+  TopoDS_Shape bracket, bolt, nut, rod, rodNut;
+};
+
+RodUnitShapes rodUnitShapes() {
+  RodUnitShapes u;
+  // Bracket frame: flange x -30..30, y -25..25, z 0..8; upright x 22..30 up to z 50 with the rod's bore
+  // (r 5.25 along x at z 30); flange holes at (-20, -12), (-20, 12), (8, 0).
+  TopoDS_Shape bracket = fuse(box(-30, -25, 0, 30, 25, 8), box(22, -25, 8, 30, 25, 50));
+  for (const auto& h : {std::pair{-20.0, -12.0}, std::pair{-20.0, 12.0}, std::pair{8.0, 0.0}})
+    bracket = cut(bracket, cylinder(h.first, h.second, -1, 4.25, 10));
+  u.bracket = unify(cut(bracket, cylinderAlong(gp_Pnt(20, 0, 30), gp_Dir(1, 0, 0), 5.25, 12)));
+  // Bolt frame: shank r 4 z 0..30, head r 6.5 z 30..35.5.
+  u.bolt = unify(fuse(cylinder(0, 0, 0, 4, 30), cylinder(0, 0, 30, 6.5, 5.5)));
+  u.nut = tube(4, 7, 8);
+  u.rod = cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 5, 80);
+  u.rodNut = unify(cut(cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 8, 8), cylinderAlong(gp_Pnt(-1, 0, 0), gp_Dir(1, 0, 0), 5, 10)));
+  return u;
+}
+
+// A plate x0..x1, y0..y1, z 0..thickness with round through holes (x, y, r): the outline and the holes'
+// circles as one face, extruded. A boolean cut per hole would take minutes for hundreds of holes.
+TopoDS_Shape plateWithHoles(double x0, double y0, double x1, double y1, double thickness,
+                            const std::vector<std::array<double, 3>>& holes) {
+  BRepBuilderAPI_MakePolygon outline(gp_Pnt(x0, y0, 0), gp_Pnt(x1, y0, 0), gp_Pnt(x1, y1, 0), gp_Pnt(x0, y1, 0), true);
+  BRepBuilderAPI_MakeFace face(outline.Wire(), true);
+  for (const auto& h : holes) {
+    const gp_Circ circle(gp_Ax2(gp_Pnt(h[0], h[1], 0), gp_Dir(0, 0, 1)), h[2]);
+    // A hole's wire runs the other way round from the outline's.
+    face.Add(TopoDS::Wire(BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle).Edge()).Wire().Reversed()));
+  }
+  if (!face.IsDone()) throw std::runtime_error("step fixtures: the plate's face could not be made");
+  ShapeFix_Face fix(face.Face());
+  fix.Perform();
+  return BRepPrimAPI_MakePrism(fix.Face(), gp_Vec(0, 0, thickness)).Shape();
+}
+
+}  // namespace
+
 void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style) {
   if (style.splits != 1 && style.splits != 2 && style.splits != 4)
     throw std::invalid_argument("step fixtures: writeBoltedRod splits 1, 2 or 4");
   Writer w;
   w.bspline = style.bsplineFaces;
   const auto real = [&](const TopoDS_Shape& shape) { return divideClosed(shape, style.splits); };
-  // Bolt positions (x, y) in the model: bracket 1's three, then bracket 2's (its flange turned 180 degrees).
-  const double bolts[6][2] = {{30, 38}, {30, 62}, {58, 50}, {170, 62}, {170, 38}, {142, 50}};
+  const auto& bolts = kRodBolts;
   TopoDS_Shape plate = box(0, 0, 0, 200, 100, 10);
   for (const auto& b : bolts) plate = cut(plate, cylinder(b[0], b[1], -1, 4.25, 12));
-  // Bracket frame: flange x -30..30, y -25..25, z 0..8; upright x 22..30 up to z 50 with the rod's bore
-  // (r 5.25 along x at z 30); flange holes at (-20, -12), (-20, 12), (8, 0).
-  TopoDS_Shape bracket = fuse(box(-30, -25, 0, 30, 25, 8), box(22, -25, 8, 30, 25, 50));
-  for (const auto& h : {std::pair{-20.0, -12.0}, std::pair{-20.0, 12.0}, std::pair{8.0, 0.0}})
-    bracket = cut(bracket, cylinder(h.first, h.second, -1, 4.25, 10));
-  bracket = cut(bracket, cylinderAlong(gp_Pnt(20, 0, 30), gp_Dir(1, 0, 0), 5.25, 12));
-  // Bolt frame: shank r 4 z 0..30, head r 6.5 z 30..35.5.
-  const TopoDS_Shape bolt = unify(fuse(cylinder(0, 0, 0, 4, 30), cylinder(0, 0, 30, 6.5, 5.5)));
-  const TopoDS_Shape nut = tube(4, 7, 8);
-  const TopoDS_Shape rod = cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 5, 80);
-  const TopoDS_Shape rodNut = unify(cut(cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 8, 8),
-                                        cylinderAlong(gp_Pnt(-1, 0, 0), gp_Dir(1, 0, 0), 5, 10)));
+  const RodUnitShapes unit = rodUnitShapes();
+  const TopoDS_Shape &bracket = unit.bracket, &bolt = unit.bolt, &nut = unit.nut, &rod = unit.rod, &rodNut = unit.rodNut;
 
   const TDF_Label root = w.assembly("BOLTED-ROD");
   // The plate's own frame at its centre, so that its instance has a placement (and keeps its name).
@@ -309,7 +356,7 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style)
   centre.SetTranslation(gp_Vec(-100, -50, 0));
   plate = BRepBuilderAPI_Transform(unify(plate), centre, true).Shape();
   const TDF_Label plateL = w.product("PLATE", real(plate), {0.6, 0.6, 0.62});
-  const TDF_Label bracketL = w.product("L-BRACKET", real(unify(bracket)), {0.2, 0.35, 0.8});
+  const TDF_Label bracketL = w.product("L-BRACKET", real(bracket), {0.2, 0.35, 0.8});
   const TDF_Label boltL = w.product("BOLT", real(bolt), {0.75, 0.75, 0.7});
   const TDF_Label nutL = w.product("NUT", real(nut), {0.8, 0.65, 0.2});
   const TDF_Label rodL = w.product("ROD", real(rod), {0.7, 0.7, 0.75});
@@ -342,6 +389,59 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style)
   add(rodNutL, named("rod-nut-1"), at3(64, 50, 40));
   add(rodNutL, named("rod-nut-2"), at3(128, 50, 40));
   w.write(file, style.schema, style.inches);
+}
+
+void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY) {
+  if (tilesX < 1 || tilesY < 1) throw std::invalid_argument("step fixtures: writeTiledProduct needs at least one tile");
+  Writer w;
+  // Every tile's six bolt holes and four dowel holes in the one plate.
+  std::vector<std::array<double, 3>> holes;
+  for (int i = 0; i < tilesX; ++i)
+    for (int j = 0; j < tilesY; ++j) {
+      const double ox = kTilePitchX * i, oy = kTilePitchY * j;
+      for (const auto& b : kRodBolts) holes.push_back({ox + b[0], oy + b[1], 4.25});
+      for (const auto& d : kTileDowels) holes.push_back({ox + d[0], oy + d[1], 3.2});
+    }
+  // The plate's own frame at its centre, so that its instance has a placement (and keeps its name).
+  const double x0 = -10, y0 = -10, x1 = kTilePitchX * tilesX, y1 = kTilePitchY * tilesY;
+  const double cx = 0.5 * (x0 + x1), cy = 0.5 * (y0 + y1);
+  for (auto& h : holes) h[0] -= cx, h[1] -= cy;
+  const TopoDS_Shape plate = plateWithHoles(x0 - cx, y0 - cy, x1 - cx, y1 - cy, 10, holes);
+  const RodUnitShapes unit = rodUnitShapes();
+
+  const TDF_Label root = w.assembly("TILED-PRODUCT");
+  const TDF_Label plateL = w.product("BASE-PLATE", plate, {0.6, 0.6, 0.62});
+  const TDF_Label tile = w.assembly("TILE");
+  const TDF_Label bracketL = w.product("L-BRACKET", unit.bracket, {0.2, 0.35, 0.8});
+  const TDF_Label boltL = w.product("BOLT", unit.bolt, {0.75, 0.75, 0.7});
+  const TDF_Label nutL = w.product("NUT", unit.nut, {0.8, 0.65, 0.2});
+  const TDF_Label rodL = w.product("ROD", unit.rod, {0.7, 0.7, 0.75});
+  const TDF_Label dowelL = w.product("DOWEL", cylinder(0, 0, 0, 3, 22), {0.5, 0.5, 0.55});
+  const auto at3 = [](double x, double y, double z, double turnZ = 0.0) {
+    gp_Trsf t;
+    t.SetTranslation(gp_Vec(x, y, z));
+    if (turnZ != 0.0) {
+      gp_Trsf r;
+      r.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), turnZ);
+      t = t * r;
+    }
+    return placed(t);
+  };
+  // The tile in the bolted rod's model frame (plate top at z 10).
+  w.instance(tile, bracketL, "bracket-1", at3(50, 50, 10));
+  w.instance(tile, bracketL, "bracket-2", at3(150, 50, 10, M_PI));
+  for (int k = 0; k < 6; ++k) w.instance(tile, boltL, ("bolt-" + std::to_string(k + 1)).c_str(), at3(kRodBolts[k][0], kRodBolts[k][1], -12));
+  for (int k = 0; k < 6; ++k) w.instance(tile, nutL, ("nut-" + std::to_string(k + 1)).c_str(), at3(kRodBolts[k][0], kRodBolts[k][1], -8));
+  // No end nuts on the rod: with a tile beside it on the rod's line, a nut outside an upright could leave
+  // along the rod only through the next tile, so a row of such tiles has no order by translations.
+  w.instance(tile, rodL, "rod", at3(60, 50, 40));
+  for (int k = 0; k < 4; ++k) w.instance(tile, dowelL, ("dowel-" + std::to_string(k + 1)).c_str(), at3(kTileDowels[k][0], kTileDowels[k][1], 2));
+  w.instance(root, plateL, "base-plate", at3(cx, cy, 0));
+  int n = 0;
+  for (int j = 0; j < tilesY; ++j)
+    for (int i = 0; i < tilesX; ++i)
+      w.instance(root, tile, ("tile-" + std::to_string(++n)).c_str(), at3(kTilePitchX * i, kTilePitchY * j, 0.0));
+  w.write(file, "AP214", false);
 }
 
 std::string withMoreUses(const std::string& text, int copies) {

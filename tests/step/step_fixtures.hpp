@@ -50,6 +50,14 @@ struct ExportStyle {
 // and 16 mates in all (tests/step/step_fixtures.cpp has every coordinate).
 void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style = {});
 
+// A product of `tilesX` x `tilesY` repeated sub-assemblies on one base, as large products are built: the
+// "BASE-PLATE" (10 thick, top at z 10, a tile every 210 mm in x and 110 in y) with each tile's six bolt holes
+// (r 4.25) and four dowel holes (r 3.2), and under the root one "TILE" sub-assembly per tile ("tile-1",
+// row by row): the bolted rod's brackets, bolts, nuts and rod (bracket-1/2, bolt-1..6, nut-1..6, rod,
+// named and placed as in writeBoltedRod; no rod nuts) and "dowel-1".."dowel-4" (r 3, z 2..24). 19 parts a
+// tile, 24 inserts and 14 mates. 9 x 6 tiles make 1,027 parts with 540 holes in a 1.9 m plate.
+void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY);
+
 // `text` (a STEP file's) with its first NEXT_ASSEMBLY_USAGE_OCCURRENCE written `copies` times more, under new
 // entity numbers from 900000: that many more instances of one product, the "instance bomb" the reader's
 // first pass refuses. Throws std::invalid_argument when the text has no such entity.

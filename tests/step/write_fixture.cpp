@@ -2,7 +2,8 @@
 // and benchmarks run vaw-sim on the same geometry the unit tests build:
 //   vaw_write_step_fixture KIND OUTPUT.stp
 // KIND: captive-ring, bolted-rod (clean), bolted-rod-split4 (cylinders in quarters, B-spline faces) or
-// bolted-rod-proe (AP203 in inches, Y up, cylinders in halves, names on the products only).
+// bolted-rod-proe (AP203 in inches, Y up, cylinders in halves, names on the products only), or tiled-XxY
+// (writeTiledProduct: tiled-9x6 is the 1,027-part product).
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -11,7 +12,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: vaw_write_step_fixture captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe OUTPUT.stp\n");
+    std::fprintf(stderr, "usage: vaw_write_step_fixture captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe|tiled-XxY OUTPUT.stp\n");
     return 2;
   }
   const std::string kind = argv[1];
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
     else if (kind == "bolted-rod") vaw::steptest::writeBoltedRod(argv[2]);
     else if (kind == "bolted-rod-split4") vaw::steptest::writeBoltedRod(argv[2], ExportStyle{4, true, true, false, false, "AP214"});
     else if (kind == "bolted-rod-proe") vaw::steptest::writeBoltedRod(argv[2], ExportStyle{2, false, false, true, true, "AP203"});
+    else if (int x = 0, y = 0; std::sscanf(kind.c_str(), "tiled-%dx%d", &x, &y) == 2) vaw::steptest::writeTiledProduct(argv[2], x, y);
     else {
       std::fprintf(stderr, "vaw_write_step_fixture: unknown kind \"%s\"\n", kind.c_str());
       return 2;

@@ -1,6 +1,10 @@
 #include "vaw/evaluation/sequence.hpp"
 
 #include <algorithm>
+#include <array>
+#include <compare>
+#include <cstdint>
+#include <map>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -60,20 +64,41 @@ std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vect
 
 // Where `mover` (at home[mover]) moving out along `out` first meets `obstacle`, if anywhere before it has
 // passed it; the block's distance, or flagged undecided. `whole`: the span to sweep at most.
+//
+// Products repeat their parts (every bolt of a kind in every bracket of a kind, every copy of a
+// sub-assembly): a sweep is decided by the two shapes, where one stands relative to the other, the way out
+// in the mover's frame and the length swept, so each such case is swept once and its answer reused
+// (rounded to a nanometre, far below the sweep's own tolerance).
 struct Sweep {
+  const Assembly& assembly;
   const collision::CollisionWorld& world;
   const std::vector<Eigen::Isometry3d>& home;
   collision::ToiOptions toi;
-  int runs = 0, evaluations = 0, undecided = 0;
+  int runs = 0, evaluations = 0, undecided = 0, reused = 0;
+
+  struct Case {
+    const void* moverShape;
+    const void* obstacleShape;
+    bool alongAxis;
+    std::array<std::int64_t, 16> geometry;  // the obstacle's pose in the mover's frame, the way, the length
+    auto operator<=>(const Case&) const = default;
+  };
+  std::map<Case, std::optional<double>> decided;  // the block's distance (none: free); undecided not kept
 
   std::optional<Blocker> block(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double whole) {
     const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(mover));
     // Only as far as the obstacle can be met: until the trailing side passes its leading side.
     const double reach = along(world.worldBounds(ObjectId::part(obstacle)), out).second - along(box, out).first + 2.0 * toi.tolerance;
     if (reach <= 0.0) return std::nullopt;
+    const double length = std::min(reach, whole);
+    const std::optional<Case> key = caseOf(mover, obstacle, out, alongAxis, length);
+    if (const auto it = key ? decided.find(*key) : decided.end(); it != decided.end()) {
+      ++reused;
+      if (!it->second) return std::nullopt;
+      return Blocker{obstacle, *it->second, false};
+    }
     const collision::MotionEvent ev =
-        collision::firstBlockBy(world, ObjectId::part(mover), ObjectId::part(obstacle),
-                                collision::translation(home[mover], out, std::min(reach, whole)),
+        collision::firstBlockBy(world, ObjectId::part(mover), ObjectId::part(obstacle), collision::translation(home[mover], out, length),
                                 alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
     ++runs;
     evaluations += ev.evaluations;
@@ -81,8 +106,31 @@ struct Sweep {
       ++undecided;
       return Blocker{obstacle, ev.s, true};
     }
-    if (ev.kind != collision::EventKind::Blocked) return std::nullopt;
-    return Blocker{obstacle, ev.initiallyBlocked ? 0.0 : ev.s, false};
+    if (ev.kind != collision::EventKind::Blocked) {
+      if (key) decided.emplace(*key, std::nullopt);
+      return std::nullopt;
+    }
+    const double distance = ev.initiallyBlocked ? 0.0 : ev.s;
+    if (key) decided.emplace(*key, distance);
+    return Blocker{obstacle, distance, false};
+  }
+
+  // None for parts without a shape of their own (none in a loaded assembly): those are always swept.
+  [[nodiscard]] std::optional<Case> caseOf(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double length) const {
+    const Part& m = assembly.parts[mover];
+    const Part& o = assembly.parts[obstacle];
+    if (!m.mesh || !o.mesh) return std::nullopt;
+    Case c{m.mesh.get(), o.mesh.get(), alongAxis, {}};
+    const Eigen::Isometry3d relative = home[mover].inverse() * home[obstacle];
+    const Eigen::Vector3d way = home[mover].linear().transpose() * out;
+    const auto q = [](double v) { return static_cast<std::int64_t>(std::llround(v * 1e9)); };
+    std::size_t k = 0;
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) c.geometry[k++] = q(relative.linear()(r, col));
+    for (int i = 0; i < 3; ++i) c.geometry[k++] = q(relative.translation()[i]);
+    for (int i = 0; i < 3; ++i) c.geometry[k++] = q(way[i]);
+    c.geometry[k] = q(length);
+    return c;
   }
 };
 
@@ -130,7 +178,7 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   const collision::CollisionWorld world(together);
   Eigen::AlignedBox3d all;
   for (PartId p = 0; p < n; ++p) all.extend(world.worldBounds(ObjectId::part(p)));
-  Sweep sweep{world, home, {}};
+  Sweep sweep{assembly, world, home, {}, 0, 0, 0, 0, {}};
   sweep.toi.tolerance = options.tolerance;
   sweep.toi.maxStep = options.maxStep;
   const auto whole = [&](PartId p, const Eigen::Vector3d& d) {
@@ -221,7 +269,7 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
   for (PartId p = 0; p < n; ++p)
     if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));
 
-  Sweep sweep{world, home, {}};
+  Sweep sweep{assembly, world, home, {}, 0, 0, 0, 0, {}};
   sweep.toi.tolerance = options.tolerance;
   sweep.toi.maxStep = options.maxStep;
   for (PartId p = 0; p < n; ++p) {
@@ -248,6 +296,7 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     plan.checks.push_back(std::move(check));
   }
   plan.sweeps = sweep.runs;
+  plan.reused = sweep.reused;
   plan.evaluations = sweep.evaluations;
   plan.undecided = sweep.undecided;
 

@@ -68,6 +68,7 @@ struct SequencePlan {
   std::vector<Stuck> stuck;             // no order inserts these
   std::vector<PartId> skipped;          // parts without a final pose: not in the sequence
   int sweeps = 0;                       // pair sweeps run
+  int reused = 0;                       // pair sweeps answered by an earlier one of the same shapes, placed alike
   int undecided = 0;                    // of them, those that ran out of their iteration limit
   int evaluations = 0;                  // distance and blocked checks in them
   [[nodiscard]] bool complete() const { return stuck.empty(); }

@@ -1,0 +1,100 @@
+// A product's size (docs/step.md, "Large products"): the 1,027-part tiled product of
+// tests/step/step_fixtures.hpp (54 copies of a 19-part sub-assembly of brackets, headed bolts, nuts, a rod
+// and dowel pins on one 1.9 m base plate with 540 holes), written with Open CASCADE in the test and read
+// through the STEP plugin. Every insert and mate of every tile is recognised, the base plate's included,
+// each usable and with the partners a fitter would give it, and every tile gets exactly what the first gets.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+
+#include "bundled.hpp"
+#include "files.hpp"
+#include "step_fixtures.hpp"
+#include "vaw/collision/collision_world.hpp"
+#include "vaw/scene_loader.hpp"
+
+namespace {
+
+using vaw::Assembly;
+using vaw::Constraint;
+
+constexpr int kTilesX = 9, kTilesY = 6, kTiles = kTilesX * kTilesY;
+
+const Assembly& product() {
+  static const Assembly loaded = [] {
+    const auto file = vaw::test::tempDir() / "tiled-product.stp";
+    vaw::steptest::writeTiledProduct(file, kTilesX, kTilesY);
+    return vaw::loadAny(file, vaw::test::importers());
+  }();
+  return loaded;
+}
+
+// "bolt-3 #7" -> {"bolt-3", 7}; the first tile's parts carry no number.
+std::pair<std::string, int> tileOf(const std::string& name) {
+  const auto hash = name.find(" #");
+  if (hash == std::string::npos) return {name, 1};
+  return {name.substr(0, hash), std::stoi(name.substr(hash + 2))};
+}
+
+TEST(LargeProduct, EveryInsertAndMateIsRecognisedTheBasePlatesIncluded) {
+  const Assembly& a = product();
+  ASSERT_EQ(a.parts.size(), 1u + 19u * kTiles);
+  ASSERT_TRUE(a.base.has_value());
+  EXPECT_EQ(a.parts[*a.base].name, "base-plate");
+  int inserts = 0, mates = 0, onTheBase = 0;
+  for (const Constraint& c : a.constraints) {
+    (c.type == Constraint::Type::Insert ? inserts : mates) += 1;
+    if (c.partner.value_or(*a.base) == *a.base) ++onTheBase;
+  }
+  // A tile: 18 bolt inserts (plate, bracket, nut), 2 for the rod, 4 dowels; mates: brackets on the plate, bolt
+  // heads on the brackets, nuts under the plate.
+  EXPECT_EQ(inserts, 24 * kTiles);
+  EXPECT_EQ(mates, 14 * kTiles);
+  // On the plate: 6 bolts and 4 dowels in its holes, 2 brackets and 6 nuts on its faces, in every tile.
+  EXPECT_EQ(onTheBase, 18 * kTiles);
+  const auto fits = vaw::collision::constraintFits(a);
+  ASSERT_EQ(fits.size(), a.constraints.size());
+  int unusable = 0;
+  for (const auto& f : fits)
+    if (!f.support.problem.empty() && ++unusable <= 5) ADD_FAILURE() << a.constraints[f.constraint].name << ": " << f.support.problem;
+  EXPECT_EQ(unusable, 0);
+}
+
+// The same contacts with the same partners in every tile, as in the first: what holds for one copy of a
+// sub-assembly holds for all 54, whether its answer was worked out or reused.
+TEST(LargeProduct, EveryTileIsRecognisedAsTheFirstWithThePartnersAFitterGives) {
+  const Assembly& a = product();
+  using Contact = std::tuple<Constraint::Type, std::string, std::string>;
+  std::map<int, std::multiset<Contact>> byTile;
+  for (const Constraint& c : a.constraints) {
+    const auto [part, tile] = tileOf(a.parts[c.part].name);
+    const auto [partner, partnerTile] = tileOf(a.parts[c.partner.value_or(*a.base)].name);
+    if (partner != "base-plate") {
+      EXPECT_EQ(partnerTile, tile) << c.name;
+    }
+    byTile[tile].insert({c.type, part, partner});
+  }
+  ASSERT_EQ(byTile.size(), static_cast<std::size_t>(kTiles));
+  const auto& first = byTile.at(1);
+  ASSERT_EQ(first.size(), 38u);
+  for (const auto& [tile, contacts] : byTile) EXPECT_EQ(contacts, first) << "tile " << tile;
+  using T = Constraint::Type;
+  for (int k = 1; k <= 6; ++k) {
+    const std::string bolt = "bolt-" + std::to_string(k), bracket = k <= 3 ? "bracket-1" : "bracket-2";
+    // The head clamps the bracket: the bracket first, the bolt through it onto it and into the plate.
+    EXPECT_EQ(first.count({T::Insert, bolt, bracket}), 1u) << bolt;
+    EXPECT_EQ(first.count({T::Mate, bolt, bracket}), 1u) << bolt;
+    EXPECT_EQ(first.count({T::Insert, bolt, "base-plate"}), 1u) << bolt;
+    // The nut after its bolt, against the plate.
+    EXPECT_EQ(first.count({T::Insert, "nut-" + std::to_string(k), bolt}), 1u) << bolt;
+    EXPECT_EQ(first.count({T::Mate, "nut-" + std::to_string(k), "base-plate"}), 1u) << bolt;
+  }
+  EXPECT_EQ(first.count({T::Insert, "rod", "bracket-1"}), 1u);
+  EXPECT_EQ(first.count({T::Insert, "rod", "bracket-2"}), 1u);
+  for (int k = 1; k <= 4; ++k) EXPECT_EQ(first.count({T::Insert, "dowel-" + std::to_string(k), "base-plate"}), 1u) << k;
+}
+
+}  // namespace
