@@ -8,7 +8,8 @@
 // tests/soak/soak.sh runs it under Xvfb; docs/benchmarks.md has the results.
 //
 // Environment: VAW_SOAK_MINUTES (wall minutes, default 30), VAW_SOAK_SPEED (default 2),
-// VAW_SOAK_THROW_EVERY (session seconds, default 15), VAW_SOAK_THROWS_PER_RESET (default 60), VAW_SOAK_CSV (default soak.csv in the working directory),
+// VAW_SOAK_THROW_EVERY (session seconds, default 15), VAW_SOAK_THROWS_PER_RESET (default 60), VAW_SOAK_THROWS
+// (stop after that many throws, within the minutes; default: no such limit), VAW_SOAK_CSV (default soak.csv in the working directory),
 // VAW_SOAK_MAX_MB_PER_HOUR (fail above it; default none).
 #include <malloc.h>
 
@@ -161,6 +162,7 @@ void SoakWindow::soak() {
   const double speed = envNumber("VAW_SOAK_SPEED", 2.0);
   const int throwsPerReset = static_cast<int>(envNumber("VAW_SOAK_THROWS_PER_RESET", 60.0));
   const double throwEvery = envNumber("VAW_SOAK_THROW_EVERY", 15.0);
+  const int throwsWanted = static_cast<int>(envNumber("VAW_SOAK_THROWS", 0.0));  // 0: as many as fit
   const double maxGrowth = envNumber("VAW_SOAK_MAX_MB_PER_HOUR", -1.0);
   const QString csvPath = qEnvironmentVariable("VAW_SOAK_CSV", QStringLiteral("soak.csv"));
   QVERIFY(bench_.open(QFile::decodeName((vaw::resourceDir() / "scenes" / "large-gearbox.vaw.json").string().c_str())));
@@ -186,7 +188,7 @@ void SoakWindow::soak() {
     out.flush();
   };
   record();
-  while (static_cast<double>(wall.elapsed()) < minutes * 60000.0) {
+  while (static_cast<double>(wall.elapsed()) < minutes * 60000.0 && (throwsWanted == 0 || throws < throwsWanted)) {
     const double next = sim().world().time() + throwEvery;
     QVERIFY(QTest::qWaitFor([&] { return sim().world().time() >= next; }, static_cast<int>(5000.0 + 4000.0 * throwEvery / speed)));
     if (throwOnePart(random)) ++throws;
