@@ -4,7 +4,11 @@
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepGProp.hxx>
+#include <BRepMesh_Context.hxx>
+#include <BRepMesh_DelabellaMeshAlgoFactory.hxx>
+#include <BRepMesh_FaceDiscret.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
+#include <IMeshTools_Parameters.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
@@ -115,7 +119,17 @@ void Reader::measure(Product& p) {
     if (!std::isfinite(v) || std::abs(v) > 1e12) return skip(p, "its bounding box is not finite");
   const double diagonal = gp_Pnt(x0, y0, z0).Distance(gp_Pnt(x1, y1, z1));
   const double deflection = std::max(relativeDeflection_ * diagonal, 1e-7);
-  BRepMesh_IncrementalMesh mesher(kept, deflection, false, angularDeflection_, false);
+  // Delabella's Delaunay triangulation, not BRepMesh's default: a planar face with hundreds of holes (a
+  // large base plate) took the default seconds, all of it in its circumcircle search.
+  IMeshTools_Parameters parameters;
+  parameters.Deflection = deflection;
+  parameters.Angle = angularDeflection_;
+  BRepMesh_IncrementalMesh mesher;
+  mesher.SetShape(kept);
+  mesher.ChangeParameters() = parameters;
+  Handle(IMeshTools_Context) context = new BRepMesh_Context();
+  context->SetFaceDiscret(new BRepMesh_FaceDiscret(new BRepMesh_DelabellaMeshAlgoFactory()));
+  mesher.Perform(context);
 
   std::vector<double> vertices;
   std::vector<std::int32_t> triangles;
