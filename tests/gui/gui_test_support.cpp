@@ -7,6 +7,10 @@
 #include <QApplication>
 #include <QDialogButtonBox>
 #include <QFileDialog>
+#include <QMessageBox>
+#include <QPointer>
+#include <QTimer>
+#include <QScopeGuard>
 #include <QPushButton>
 #include <QLineEdit>
 #include <QMainWindow>
@@ -162,6 +166,12 @@ void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers) {
 }
 
 void answerFileDialog(QWidget* modal, const QString& path) {
+  // Whatever fails here, the dialog must not stay open: its exec() would hold the test until ctest's time
+  // limit (a run under load once waited 300 s on it) instead of failing at once.
+  const QPointer<QDialog> open = qobject_cast<QDialog*>(modal);
+  const auto rejectIfStillOpen = qScopeGuard([open] {
+    if (open && open->isVisible()) open->reject();
+  });
   auto* dialog = qobject_cast<QFileDialog*>(modal);
   QVERIFY2(dialog != nullptr, "the modal dialog is a file dialog");
   auto* name = dialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));
@@ -174,7 +184,8 @@ void answerFileDialog(QWidget* modal, const QString& path) {
   QPushButton* accept = nullptr;
   for (QAbstractButton* b : buttons->buttons())
     if (buttons->buttonRole(b) == QDialogButtonBox::AcceptRole) accept = qobject_cast<QPushButton*>(b);
-  QVERIFY2(accept != nullptr && accept->isEnabled(), "the dialog's Save or Open button can be clicked");
+  QVERIFY2(accept != nullptr, "the dialog has a Save or Open button");
+  QTRY_VERIFY2_WITH_TIMEOUT(accept->isEnabled(), "the dialog's Save or Open button can be clicked", 5000);
   QTest::mouseClick(accept, Qt::LeftButton);
 }
 
@@ -270,6 +281,24 @@ Workbench::~Workbench() = default;
 bool Workbench::start(const WorkbenchOptions& options, const std::function<void(ui::MainWindow&)>& beforeShow) {
   options_ = options;
   failOnWarnings();
+  modalWatch_ = std::make_unique<QTimer>();
+  modalWatch_->setInterval(1000);
+  QObject::connect(modalWatch_.get(), &QTimer::timeout, [since = std::make_shared<std::pair<QPointer<QWidget>, int>>()] {
+    QWidget* modal = QApplication::activeModalWidget();
+    if (modal == nullptr || modal != since->first) {
+      *since = {modal, 0};
+      return;
+    }
+    if (++since->second < 30) return;
+    const auto* box = qobject_cast<QMessageBox*>(modal);
+    const QString what = QStringLiteral("a modal dialog (%1 \"%2\"%3) stayed open 30 s with nobody to answer it")
+                             .arg(QString::fromLatin1(modal->metaObject()->className()), modal->windowTitle(),
+                                  box ? QStringLiteral(": ") + box->text() : QString());
+    *since = {nullptr, 0};
+    if (auto* dialog = qobject_cast<QDialog*>(modal)) dialog->reject();
+    QTest::qFail(qPrintable(what), __FILE__, __LINE__);
+  });
+  modalWatch_->start();
   if (options.clearSettings) QSettings().clear();
   controller = std::make_unique<ui::AssemblyController>();
   window = std::make_unique<ui::MainWindow>(*controller);
@@ -298,6 +327,7 @@ bool Workbench::restart() {
 }
 
 void Workbench::stop() {
+  modalWatch_.reset();
   window.reset();
   controller.reset();
   restoreMessageHandler();

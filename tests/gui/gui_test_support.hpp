@@ -16,6 +16,7 @@
 #include "vaw/assembly.hpp"
 
 class QMainWindow;
+class QTimer;
 class QMenu;
 class QWidget;
 
@@ -58,6 +59,9 @@ class Workbench {
 
  private:
   WorkbenchOptions options_;
+  // A modal dialog left open (no test answered it) blocks its exec() until ctest's time limit: after 30 s
+  // the watch fails the test, naming the dialog, and closes it.
+  std::unique_ptr<QTimer> modalWatch_;
 };
 
 // Installs a message handler that collects every Qt warning and critical message, except the harmless
