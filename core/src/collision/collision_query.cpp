@@ -22,6 +22,8 @@ struct PairContext {
   QueryResult* out = nullptr;
   double cosAngle = 1.0;
   std::vector<signed char> coaxCache;  // per (cylinder of A, cylinder of B): -1 unknown, 0 no, 1 yes
+  std::vector<signed char> rimOfA;     // per (plane of A, cylinder of B): a rim of that plane coaxial with it
+  std::vector<signed char> rimOfB;     // per (cylinder of A, plane of B)
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // B frame -> A frame
   Eigen::Vector3d T = Eigen::Vector3d::Zero();
   bool stop = false;
@@ -47,19 +49,44 @@ struct PairContext {
   }
 
   // An end face of one cylinder (planar patch pa of A, or pb of B) against the other's equal, coaxial
-  // cylinder of the opposite kind (a sleeve's end face on its shaft, a shaft's cap in its bore).
+  // cylinder of the opposite kind (a sleeve's end face on its shaft, a shaft's cap in its bore). A plate's
+  // face is the end face of every hole in it: the answer is kept per plane and cylinder, so that the
+  // hundreds of holes of a large base are looked through once per query, not at every node pair.
   bool rimAgainstCylinder(int pa, int cb, int ca, int pb) {
-    if (pa >= 0 && cb >= 0)
-      for (int rim : A->patches->planes[static_cast<std::size_t>(pa)].rimOf)
-        if (A->patches->cylinders[static_cast<std::size_t>(rim)].convex != B->patches->cylinders[static_cast<std::size_t>(cb)].convex &&
-            cylindersCoaxial(rim, cb))
-          return true;
-    if (ca >= 0 && pb >= 0)
-      for (int rim : B->patches->planes[static_cast<std::size_t>(pb)].rimOf)
-        if (A->patches->cylinders[static_cast<std::size_t>(ca)].convex != B->patches->cylinders[static_cast<std::size_t>(rim)].convex &&
-            cylindersCoaxial(ca, rim))
-          return true;
+    if (pa >= 0 && cb >= 0) {
+      signed char& known = rimOfA[static_cast<std::size_t>(pa) * B->patches->cylinders.size() + static_cast<std::size_t>(cb)];
+      if (known < 0) {
+        known = 0;
+        for (int rim : A->patches->planes[static_cast<std::size_t>(pa)].rimOf)
+          if (A->patches->cylinders[static_cast<std::size_t>(rim)].convex != B->patches->cylinders[static_cast<std::size_t>(cb)].convex &&
+              cylindersCoaxial(rim, cb)) {
+            known = 1;
+            break;
+          }
+      }
+      if (known == 1) return true;
+    }
+    if (ca >= 0 && pb >= 0) {
+      signed char& known = rimOfB[static_cast<std::size_t>(ca) * B->patches->planes.size() + static_cast<std::size_t>(pb)];
+      if (known < 0) {
+        known = 0;
+        for (int rim : B->patches->planes[static_cast<std::size_t>(pb)].rimOf)
+          if (A->patches->cylinders[static_cast<std::size_t>(ca)].convex != B->patches->cylinders[static_cast<std::size_t>(rim)].convex &&
+              cylindersCoaxial(ca, rim)) {
+            known = 1;
+            break;
+          }
+      }
+      if (known == 1) return true;
+    }
     return false;
+  }
+
+  // For a new pair of poses: nothing known yet.
+  void forget() {
+    coaxCache.assign(A->patches->cylinders.size() * B->patches->cylinders.size(), -1);
+    rimOfA.assign(A->patches->planes.size() * B->patches->cylinders.size(), -1);
+    rimOfB.assign(A->patches->cylinders.size() * B->patches->planes.size(), -1);
   }
 
   // Two planar patches' planes are parallel and within the distance tolerance (less both fits' residuals),
@@ -183,7 +210,7 @@ void meshMeshQuery(PairContext& ctx, const Eigen::Isometry3d& poseA, const Eigen
   ctx.R = node.R;
   ctx.T = node.T;
   ctx.cosAngle = std::cos(ctx.tol.angle);
-  ctx.coaxCache.assign(ctx.A->patches->cylinders.size() * ctx.B->patches->cylinders.size(), -1);
+  ctx.forget();
   node.ctx = &ctx;
   node.keepCoplanar = ctx.mode == FilterMode::KeepCoplanar;
   fcl::detail::collide(&node, nullptr);
@@ -457,7 +484,7 @@ double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA,
   ctx.R = node.tf.linear();
   ctx.T = node.tf.translation();
   ctx.cosAngle = std::cos(ctx.tol.angle);
-  ctx.coaxCache.assign(A.patches->cylinders.size() * B.patches->cylinders.size(), -1);
+  ctx.forget();
   node.ctx = &ctx;
   node.dir = (tf1.linear().transpose() * direction).normalized();
   node.e1 = node.dir.unitOrthogonal();
