@@ -1,6 +1,7 @@
 #include "vaw/cad_assembly.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdio>
 #include <fstream>
 #include <cmath>
@@ -225,6 +226,95 @@ std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, Part
     poses[id] = pose;
     columnWidth = std::max(columnWidth, size.x());
     y += size.y() + gap;
+  }
+  return poses;
+}
+
+std::vector<Eigen::Isometry3d> layOutAround(const std::vector<Part>& parts, PartId base, const std::vector<Eigen::Matrix3d>& orientations,
+                                            double tableTop, double gap) {
+  std::vector<Eigen::Isometry3d> poses(parts.size(), Eigen::Isometry3d::Identity());
+  Eigen::AlignedBox3d baseBox;
+  for (const auto& v : parts[base].mesh->vertices) baseBox.extend(parts[base].pose * v);
+  poses[base] = parts[base].pose;
+  // Sides: 0 +y, 1 -y (rows along x), 2 +x, 3 -x (rows along y).
+  struct Item {
+    PartId id;
+    double t;            // where it goes, along its side
+    Eigen::Vector3d min;  // its box in its resting orientation
+    double along, across, spacing;
+  };
+  std::array<std::vector<Item>, 4> sides;
+  for (PartId id = 0; id < parts.size(); ++id) {
+    if (id == base) continue;
+    Eigen::AlignedBox3d box;
+    for (const auto& v : parts[id].mesh->vertices) box.extend(orientations[id] * v);
+    const Eigen::Vector3d goes = parts[id].finalPose ? Eigen::Vector3d(*parts[id].finalPose * parts[id].mass.centerOfMass) : baseBox.center();
+    const double to[4] = {baseBox.max().y() - goes.y(), goes.y() - baseBox.min().y(), baseBox.max().x() - goes.x(), goes.x() - baseBox.min().x()};
+    const int side = static_cast<int>(std::min_element(std::begin(to), std::end(to)) - std::begin(to));
+    const bool rowAlongX = side < 2;
+    const Eigen::Vector3d size = box.sizes();
+    const double along = rowAlongX ? size.x() : size.y(), across = rowAlongX ? size.y() : size.x();
+    // Room for fingers between neighbours, more for larger parts.
+    const double spacing = std::clamp(0.5 * std::max(size.x(), size.y()), 0.01, gap);
+    sides[static_cast<std::size_t>(side)].push_back({id, rowAlongX ? goes.x() : goes.y(), box.min(), along, across, spacing});
+  }
+  for (int side = 0; side < 4; ++side) {
+    auto& items = sides[static_cast<std::size_t>(side)];
+    if (items.empty()) continue;
+    std::sort(items.begin(), items.end(), [](const Item& a, const Item& b) { return a.t != b.t ? a.t < b.t : a.id < b.id; });
+    const bool rowAlongX = side < 2;
+    const double a0 = rowAlongX ? baseBox.min().x() : baseBox.min().y(), a1 = rowAlongX ? baseBox.max().x() : baseBox.max().y();
+    double needed = 0.0;
+    for (const Item& it : items) needed += it.along + it.spacing;
+    // As few rows as hold them with some slack; each part in the row that takes it nearest where it goes.
+    struct Row {
+      double cursor, depth = 0.0;
+      std::vector<std::pair<std::size_t, double>> placed;  // item, position along the side
+    };
+    const auto rowsWanted = static_cast<std::size_t>(std::max(1.0, std::ceil(needed / (0.8 * std::max(a1 - a0, 1e-3)))));
+    std::vector<Row> rows(rowsWanted, Row{a0, 0.0, {}});
+    for (std::size_t i = 0; i < items.size(); ++i) {
+      const Item& it = items[i];
+      bool done = false;
+      for (std::size_t k = 0; k < rows.size() && !done; ++k) {
+        Row& row = rows[(i + k) % rows.size()];
+        const double at = std::max(row.cursor, it.t - 0.5 * it.along);
+        if (at + it.along > a1 && row.cursor > a0) continue;
+        row.placed.emplace_back(i, at);
+        row.cursor = at + it.along + it.spacing;
+        row.depth = std::max(row.depth, it.across);
+        done = true;
+      }
+      if (!done) {
+        Row row{a0, 0.0, {}};
+        const double at = std::max(a0, std::min(it.t - 0.5 * it.along, a1 - it.along));
+        row.placed.emplace_back(i, at);
+        row.cursor = at + it.along + it.spacing;
+        row.depth = it.across;
+        rows.push_back(std::move(row));
+      }
+    }
+    double offset = gap;
+    for (const Row& row : rows) {
+      if (row.placed.empty()) continue;
+      for (const auto& [i, at] : row.placed) {
+        const Item& it = items[i];
+        Eigen::Vector3d corner;  // where the box's minimum corner goes
+        switch (side) {
+          case 0: corner = {at, baseBox.max().y() + offset, tableTop}; break;
+          case 1: corner = {at, baseBox.min().y() - offset - it.across, tableTop}; break;
+          case 2: corner = {baseBox.max().x() + offset, at, tableTop}; break;
+          default: corner = {baseBox.min().x() - offset - it.across, at, tableTop}; break;
+        }
+        Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+        pose.linear() = orientations[it.id];
+        pose.translation() = corner - it.min;
+        poses[it.id] = pose;
+      }
+      double rowSpacing = 0.0;
+      for (const auto& [i, at] : row.placed) rowSpacing = std::max(rowSpacing, items[i].spacing);
+      offset += row.depth + rowSpacing;
+    }
   }
   return poses;
 }
@@ -454,7 +544,15 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     orientations.push_back(restingOrientation(*p.mesh, p.mass.centerOfMass, p.principal, p.cad.get(),
                                               p.finalPose ? std::optional<Eigen::Matrix3d>(p.finalPose->linear()) : std::nullopt));
   const double gap = std::clamp(0.1 * baseBox.sizes().maxCoeff(), 0.01, 0.05);
-  const std::vector<Eigen::Isometry3d> poses = layOutBeside(a.parts, base, orientations, 0.0, gap);
+  std::vector<Eigen::Isometry3d> poses = layOutBeside(a.parts, base, orientations, 0.0, gap);
+  // Beside the base while that stays within reach of it; a product too large for that (hundreds of parts
+  // would run metres down the table) waits all round the base, each part by the side it goes nearest.
+  double farthest = baseBox.max().x();
+  for (PartId id = 0; id < a.parts.size(); ++id)
+    if (id != base)
+      for (const auto& v : a.parts[id].mesh->vertices) farthest = std::max(farthest, (poses[id] * v).x());
+  if (farthest - baseBox.max().x() > std::max(baseBox.sizes().head<2>().maxCoeff(), 1.0))
+    poses = layOutAround(a.parts, base, orientations, 0.0, gap);
   for (PartId id = 0; id < a.parts.size(); ++id) a.parts[id].pose = poses[id];
 
   // A table under all of it, its top at z = 0.

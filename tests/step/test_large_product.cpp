@@ -12,6 +12,8 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "bundled.hpp"
 #include "files.hpp"
@@ -99,6 +101,47 @@ TEST(LargeProduct, EveryTileIsRecognisedAsTheFirstWithThePartnersAFitterGives) {
   EXPECT_EQ(first.count({T::Insert, "rod", "bracket-1"}), 1u);
   EXPECT_EQ(first.count({T::Insert, "rod", "bracket-2"}), 1u);
   for (int k = 1; k <= 4; ++k) EXPECT_EQ(first.count({T::Insert, "dowel-" + std::to_string(k), "base-plate"}), 1u) << k;
+}
+
+// Laid out to be reached: every part waits on the table round the base, none on another, none farther from
+// the base's edge than the base is long, the table under all of them.
+TEST(LargeProduct, ThePartsWaitRoundTheBaseWithinReachAndApart) {
+  const Assembly& a = product();
+  const auto boxOf = [&](vaw::PartId id) {
+    Eigen::AlignedBox3d b;
+    for (const auto& v : a.parts[id].mesh->vertices) b.extend(a.parts[id].pose * v);
+    return b;
+  };
+  const Eigen::AlignedBox3d base = boxOf(*a.base);
+  const double reach = base.sizes().head<2>().maxCoeff();
+  std::vector<std::pair<Eigen::AlignedBox3d, vaw::PartId>> boxes;
+  for (vaw::PartId id = 0; id < a.parts.size(); ++id) {
+    const Eigen::AlignedBox3d b = boxOf(id);
+    boxes.emplace_back(b, id);
+    if (id == *a.base) continue;
+    EXPECT_NEAR(b.min().z(), 0.0, 1e-6) << a.parts[id].name << " rests on the table";
+    // How far outside the base's footprint, in the plane.
+    const Eigen::Vector2d out = (base.min().head<2>() - b.max().head<2>()).cwiseMax(b.min().head<2>() - base.max().head<2>()).cwiseMax(0.0);
+    EXPECT_LE(out.norm(), reach) << a.parts[id].name;
+  }
+  // No two overlap (boxes sorted along x, each compared with those that start before it ends).
+  std::sort(boxes.begin(), boxes.end(), [](const auto& x, const auto& y) { return x.first.min().x() < y.first.min().x(); });
+  int overlaps = 0;
+  for (std::size_t i = 0; i < boxes.size(); ++i)
+    for (std::size_t j = i + 1; j < boxes.size() && boxes[j].first.min().x() < boxes[i].first.max().x(); ++j) {
+      const Eigen::AlignedBox3d common = boxes[i].first.intersection(boxes[j].first);
+      if (!common.isEmpty() && (common.sizes().array() > 1e-9).all() && ++overlaps <= 5)
+        ADD_FAILURE() << a.parts[boxes[i].second].name << " overlaps " << a.parts[boxes[j].second].name;
+    }
+  EXPECT_EQ(overlaps, 0);
+  // The table holds them all.
+  ASSERT_FALSE(a.environment.empty());
+  Eigen::AlignedBox3d table;
+  for (const auto& v : a.environment[0].mesh->vertices) table.extend(a.environment[0].pose * v);
+  for (const auto& [b, id] : boxes)
+    EXPECT_TRUE(table.min().head<2>().cwiseMin(b.min().head<2>()) == table.min().head<2>() &&
+                table.max().head<2>().cwiseMax(b.max().head<2>()) == table.max().head<2>())
+        << a.parts[id].name << " is off the table";
 }
 
 // An order for all 1,026 parts but the base, in which each tile goes together as a fitter would put it

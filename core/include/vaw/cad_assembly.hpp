@@ -56,5 +56,10 @@ bool validUpChoice(const std::string& up);
 // in rows beside the base, none overlapping, `gap` apart. `orientations` are the resting orientations.
 std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, PartId base,
                                             const std::vector<Eigen::Matrix3d>& orientations, double tableTop, double gap);
+// For a product too large to wait beside its base: every part by the side of the base nearest where it goes
+// (its finalPose), in rows along that side, each as near its place along the side as the row allows, as few
+// rows as hold them; none overlapping, the first row `gap` from the base, neighbours a finger's width apart.
+std::vector<Eigen::Isometry3d> layOutAround(const std::vector<Part>& parts, PartId base,
+                                            const std::vector<Eigen::Matrix3d>& orientations, double tableTop, double gap);
 
 }  // namespace vaw
