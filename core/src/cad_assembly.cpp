@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <utility>
 #include <cstdio>
 #include <fstream>
 #include <cmath>
@@ -201,12 +202,22 @@ Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& c
   return best;
 }
 
-std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, PartId base, const std::vector<Eigen::Matrix3d>& orientations,
-                                            double tableTop, double gap) {
+namespace {
+
+// The base's bounds where it stands, and every pose a layout gives: the base's own, the rest to be set.
+std::pair<Eigen::AlignedBox3d, std::vector<Eigen::Isometry3d>> layoutStart(const std::vector<Part>& parts, PartId base) {
   std::vector<Eigen::Isometry3d> poses(parts.size(), Eigen::Isometry3d::Identity());
   Eigen::AlignedBox3d baseBox;
   for (const auto& v : parts[base].mesh->vertices) baseBox.extend(parts[base].pose * v);
   poses[base] = parts[base].pose;
+  return {baseBox, std::move(poses)};
+}
+
+}  // namespace
+
+std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, PartId base, const std::vector<Eigen::Matrix3d>& orientations,
+                                            double tableTop, double gap) {
+  auto [baseBox, poses] = layoutStart(parts, base);
   const double depthLimit = std::max(baseBox.sizes().y(), 0.3);
   double columnX = baseBox.max().x() + gap, columnWidth = 0.0, y = baseBox.min().y();
   for (PartId id = 0; id < parts.size(); ++id) {
@@ -232,10 +243,7 @@ std::vector<Eigen::Isometry3d> layOutBeside(const std::vector<Part>& parts, Part
 
 std::vector<Eigen::Isometry3d> layOutAround(const std::vector<Part>& parts, PartId base, const std::vector<Eigen::Matrix3d>& orientations,
                                             double tableTop, double gap) {
-  std::vector<Eigen::Isometry3d> poses(parts.size(), Eigen::Isometry3d::Identity());
-  Eigen::AlignedBox3d baseBox;
-  for (const auto& v : parts[base].mesh->vertices) baseBox.extend(parts[base].pose * v);
-  poses[base] = parts[base].pose;
+  auto [baseBox, poses] = layoutStart(parts, base);
   // Sides: 0 +y, 1 -y (rows along x), 2 +x, 3 -x (rows along y).
   struct Item {
     PartId id;

@@ -123,6 +123,18 @@ TopoDS_Shape divideClosed(const TopoDS_Shape& s, int pieces) {
 
 TopLoc_Location placed(const gp_Trsf& t) { return TopLoc_Location(t); }
 
+// At (x, y, z), turned `turnZ` about its own vertical.
+gp_Trsf turnedAt(double x, double y, double z, double turnZ) {
+  gp_Trsf t;
+  t.SetTranslation(gp_Vec(x, y, z));
+  if (turnZ != 0.0) {
+    gp_Trsf r;
+    r.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), turnZ);
+    t = t * r;
+  }
+  return t;
+}
+
 struct Writer {
   Handle(TDocStd_Document) doc;
   Handle(XCAFDoc_ShapeTool) shapes;
@@ -366,16 +378,7 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style)
   // about x).
   gp_Trsf toFile;
   if (style.yUp) toFile.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), -M_PI / 2);
-  const auto at3 = [&](double x, double y, double z, double turnZ = 0.0) {
-    gp_Trsf t;
-    t.SetTranslation(gp_Vec(x, y, z));
-    if (turnZ != 0.0) {
-      gp_Trsf r;
-      r.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), turnZ);
-      t = t * r;
-    }
-    return placed(toFile * t);
-  };
+  const auto at3 = [&](double x, double y, double z, double turnZ = 0.0) { return placed(toFile * turnedAt(x, y, z, turnZ)); };
   const auto named = [&](const std::string& n) -> std::string { return style.namedInstances ? n : std::string(); };
   const auto add = [&](const TDF_Label& product, const std::string& name, const TopLoc_Location& where) {
     w.instance(root, product, name.empty() ? nullptr : name.c_str(), where);
@@ -417,16 +420,7 @@ void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY
   const TDF_Label nutL = w.product("NUT", unit.nut, {0.8, 0.65, 0.2});
   const TDF_Label rodL = w.product("ROD", unit.rod, {0.7, 0.7, 0.75});
   const TDF_Label dowelL = w.product("DOWEL", cylinder(0, 0, 0, 3, 22), {0.5, 0.5, 0.55});
-  const auto at3 = [](double x, double y, double z, double turnZ = 0.0) {
-    gp_Trsf t;
-    t.SetTranslation(gp_Vec(x, y, z));
-    if (turnZ != 0.0) {
-      gp_Trsf r;
-      r.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), turnZ);
-      t = t * r;
-    }
-    return placed(t);
-  };
+  const auto at3 = [](double x, double y, double z, double turnZ = 0.0) { return placed(turnedAt(x, y, z, turnZ)); };
   // The tile in the bolted rod's model frame (plate top at z 10).
   w.instance(tile, bracketL, "bracket-1", at3(50, 50, 10));
   w.instance(tile, bracketL, "bracket-2", at3(150, 50, 10, M_PI));

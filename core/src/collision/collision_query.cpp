@@ -53,33 +53,30 @@ struct PairContext {
   // face is the end face of every hole in it: the answer is kept per plane and cylinder, so that the
   // hundreds of holes of a large base are looked through once per query, not at every node pair.
   bool rimAgainstCylinder(int pa, int cb, int ca, int pb) {
-    if (pa >= 0 && cb >= 0) {
-      signed char& known = rimOfA[static_cast<std::size_t>(pa) * B->patches->cylinders.size() + static_cast<std::size_t>(cb)];
-      if (known < 0) {
-        known = 0;
-        for (int rim : A->patches->planes[static_cast<std::size_t>(pa)].rimOf)
-          if (A->patches->cylinders[static_cast<std::size_t>(rim)].convex != B->patches->cylinders[static_cast<std::size_t>(cb)].convex &&
-              cylindersCoaxial(rim, cb)) {
-            known = 1;
-            break;
-          }
+    if (pa >= 0 && cb >= 0 &&
+        anyRimCoaxial(rimOfA[static_cast<std::size_t>(pa) * B->patches->cylinders.size() + static_cast<std::size_t>(cb)],
+                      A->patches->planes[static_cast<std::size_t>(pa)].rimOf, true, cb))
+      return true;
+    return ca >= 0 && pb >= 0 &&
+           anyRimCoaxial(rimOfB[static_cast<std::size_t>(ca) * B->patches->planes.size() + static_cast<std::size_t>(pb)],
+                         B->patches->planes[static_cast<std::size_t>(pb)].rimOf, false, ca);
+  }
+
+  // Whether one of `rims` (cylinders of A when `rimsOfA`, else of B) is of the opposite kind to, and coaxial
+  // with, the other side's cylinder `other`; `known` keeps the answer (-1 not yet asked).
+  bool anyRimCoaxial(signed char& known, const std::vector<int>& rims, bool rimsOfA, int other) {
+    if (known < 0) {
+      known = 0;
+      for (const int rim : rims) {
+        const int ca = rimsOfA ? rim : other, cb = rimsOfA ? other : rim;
+        if (A->patches->cylinders[static_cast<std::size_t>(ca)].convex != B->patches->cylinders[static_cast<std::size_t>(cb)].convex &&
+            cylindersCoaxial(ca, cb)) {
+          known = 1;
+          break;
+        }
       }
-      if (known == 1) return true;
     }
-    if (ca >= 0 && pb >= 0) {
-      signed char& known = rimOfB[static_cast<std::size_t>(ca) * B->patches->planes.size() + static_cast<std::size_t>(pb)];
-      if (known < 0) {
-        known = 0;
-        for (int rim : B->patches->planes[static_cast<std::size_t>(pb)].rimOf)
-          if (A->patches->cylinders[static_cast<std::size_t>(ca)].convex != B->patches->cylinders[static_cast<std::size_t>(rim)].convex &&
-              cylindersCoaxial(ca, rim)) {
-            known = 1;
-            break;
-          }
-      }
-      if (known == 1) return true;
-    }
-    return false;
+    return known == 1;
   }
 
   // For a new pair of poses: nothing known yet.
