@@ -2,15 +2,15 @@
 
 #include <algorithm>
 #include <array>
-#include <utility>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <cmath>
 #include <limits>
 #include <map>
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "collision/geometry2d.hpp"
 #include "vaw/collision/surface_patches.hpp"

@@ -9,9 +9,9 @@
 #include <QFileDialog>
 #include <QMessageBox>
 #include <QPointer>
-#include <QTimer>
-#include <QScopeGuard>
 #include <QPushButton>
+#include <QScopeGuard>
+#include <QTimer>
 #include <QLineEdit>
 #include <QMainWindow>
 #include <QMenu>

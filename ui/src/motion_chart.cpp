@@ -128,12 +128,14 @@ void MotionChartDock::redraw(double now) {
     sMax = std::max(sMax, x.speed);
     tMax = std::max(tMax, x.t);
   };
-  for (auto it = samples_.begin(); it != samples_.end(); ++it) {
-    // The step shown now in its place, between the kept samples around it.
-    if (shown_ && shown_->first < it->first && (it == samples_.begin() || std::prev(it)->first < shown_->first)) add(shown_->second);
+  // The step shown now in its place among the kept ones, unless it is one of them.
+  const auto shownAt = shown_ ? samples_.lower_bound(shown_->first) : samples_.end();
+  const bool drawShown = shown_ && (shownAt == samples_.end() || shownAt->first != shown_->first);
+  for (auto it = samples_.begin();; ++it) {
+    if (drawShown && it == shownAt) add(shown_->second);
+    if (it == samples_.end()) break;
     add(it->second);
   }
-  if (shown_ && (samples_.empty() || samples_.rbegin()->first < shown_->first)) add(shown_->second);
   energy_->replace(e);
   speed_->replace(s);
   if (samples_.empty()) eMin = 0.0, eMax = 1.0;

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <compare>
 #include <cstdint>
-#include <map>
-#include <cmath>
 #include <cstdio>
+#include <map>
 #include <optional>
 #include <set>
 
@@ -70,6 +70,12 @@ std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vect
 // in the mover's frame and the length swept, so each such case is swept once and its answer reused
 // (rounded to a nanometre, far below the sweep's own tolerance).
 struct Sweep {
+  Sweep(const Assembly& a, const collision::CollisionWorld& w, const std::vector<Eigen::Isometry3d>& h, const SequenceOptions& options)
+      : assembly(a), world(w), home(h) {
+    toi.tolerance = options.tolerance;
+    toi.maxStep = options.maxStep;
+  }
+
   const Assembly& assembly;
   const collision::CollisionWorld& world;
   const std::vector<Eigen::Isometry3d>& home;
@@ -178,9 +184,7 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   const collision::CollisionWorld world(together);
   Eigen::AlignedBox3d all;
   for (PartId p = 0; p < n; ++p) all.extend(world.worldBounds(ObjectId::part(p)));
-  Sweep sweep{assembly, world, home, {}, 0, 0, 0, 0, {}};
-  sweep.toi.tolerance = options.tolerance;
-  sweep.toi.maxStep = options.maxStep;
+  Sweep sweep(assembly, world, home, options);
   const auto whole = [&](PartId p, const Eigen::Vector3d& d) {
     return along(all, d).second - along(world.worldBounds(ObjectId::part(p)), d).first + 2.0 * options.tolerance;
   };
@@ -269,9 +273,7 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
   for (PartId p = 0; p < n; ++p)
     if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));
 
-  Sweep sweep{assembly, world, home, {}, 0, 0, 0, 0, {}};
-  sweep.toi.tolerance = options.tolerance;
-  sweep.toi.maxStep = options.maxStep;
+  Sweep sweep(assembly, world, home, options);
   for (PartId p = 0; p < n; ++p) {
     if (p == base || !inSequence[p]) continue;
     if (progress && !progress(static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
