@@ -177,8 +177,19 @@ void answerFileDialog(QWidget* modal, const QString& path) {
   auto* name = dialog->findChild<QLineEdit*>(QStringLiteral("fileNameEdit"));
   QVERIFY(name != nullptr);
   name->setCompleter(nullptr);
-  QTest::keyClick(name, Qt::Key_A, Qt::ControlModifier);
-  QTest::keyClicks(name, path);
+  // The dialog lists its folder on a thread; when the listing arrives it selects the suggested file and, in a
+  // name field without focus, puts that name back over what was typed (seen in a loaded CI run: Save then
+  // went nowhere). So the field gets focus the way a person gives it, and what was typed is checked and
+  // typed again if the listing overwrote it, as a person would.
+  QVERIFY(QTest::qWaitForWindowActive(dialog));
+  QTest::mouseClick(name, Qt::LeftButton);
+  QTRY_VERIFY_WITH_TIMEOUT(name->hasFocus(), 5000);
+  for (int attempt = 0; attempt < 3 && name->text() != path; ++attempt) {
+    QTest::keyClick(name, Qt::Key_A, Qt::ControlModifier);
+    QTest::keyClicks(name, path);
+    QTest::qWait(200);
+  }
+  QCOMPARE(name->text(), path);
   auto* buttons = dialog->findChild<QDialogButtonBox*>(QStringLiteral("buttonBox"));
   QVERIFY(buttons != nullptr);
   QPushButton* accept = nullptr;
@@ -187,6 +198,10 @@ void answerFileDialog(QWidget* modal, const QString& path) {
   QVERIFY2(accept != nullptr, "the dialog has a Save or Open button");
   QTRY_VERIFY2_WITH_TIMEOUT(accept->isEnabled(), "the dialog's Save or Open button can be clicked", 5000);
   QTest::mouseClick(accept, Qt::LeftButton);
+  QTRY_VERIFY2_WITH_TIMEOUT(!dialog->isVisible(),
+                            qPrintable(QStringLiteral("the dialog closed on its Save or Open button with \"%1\" in %2")
+                                           .arg(name->text(), dialog->directory().absolutePath())),
+                            5000);
 }
 
 void shot(QMainWindow* window, QWidget* widget, const QString& name) {
