@@ -220,7 +220,9 @@ TEST(FirstBlockBy, APegSlidesOutOfItsBoreButNotThroughItsBottom) {
   const Motion down = translation(at(0, 0, 0.015), -Eigen::Vector3d::UnitZ(), 0.05);
   const MotionEvent onPlate = firstBlockBy(w, ObjectId::part(peg), ObjectId::part(plate), down, FilterMode::SkipCoaxial);
   ASSERT_EQ(onPlate.kind, EventKind::Blocked);
-  EXPECT_LT(onPlate.sEvent, 2e-5);
+  // Blocked once it sinks in beyond the 10 um tolerance, located within one tolerance of that.
+  EXPECT_LE(onPlate.sEvent, 2e-5 + 1e-12);
+  EXPECT_LE(onPlate.evaluations, 6) << "a block at the start is bracketed by one short check, not a whole step's bisection";
   // Sideways, the bore's wall blocks it at once.
   const Motion side = translation(at(0, 0, 0.015), Eigen::Vector3d::UnitX(), 0.05);
   const MotionEvent wall = firstBlockBy(w, ObjectId::part(peg), ObjectId::part(tube), side, FilterMode::SkipCoaxial);
@@ -275,6 +277,55 @@ TEST(SweepDistance, WhatATranslationPassesAtAClearanceIsLeftOut) {
   const MotionEvent onPlate = firstBlockBy(w, ObjectId::part(tube), ObjectId::part(plate), translation(home, down, 0.03), FilterMode::SkipCoaxial);
   ASSERT_EQ(onPlate.kind, EventKind::Blocked);
   EXPECT_NEAR(onPlate.s, 0.02, 2e-5);
+}
+
+TEST(SweepDistance, WhatTheMotionTakesApartIsLeftOutAndACapEndsTheSearch) {
+  // A peg (r 5 mm) standing on a disc (r 20 mm, 10 mm thick), and a second peg 20 mm over the disc.
+  ctest::SceneBuilder b;
+  const PartId disc = b.part("disc", primitives::cylinder(0.02, 0.01, 48), at(0, 0, -0.005));
+  const PartId peg = b.part("peg", primitives::cylinder(0.005, 0.02, 32), at(0, 0, 0.01));
+  const PartId high = b.part("high peg", primitives::cylinder(0.005, 0.02, 32), at(0.012, 0, 0.03));
+  b.base(disc);
+  const CollisionWorld w(b.a);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  EXPECT_LT(w.distance(ObjectId::part(peg), ObjectId::part(disc)), 1e-9) << "the peg stands on the disc";
+  EXPECT_TRUE(std::isinf(w.sweepDistance(ObjectId::part(peg), at(0, 0, 0.01), ObjectId::part(disc), FilterMode::SkipCoplanar, up)))
+      << "lifted, the peg only leaves the disc";
+  EXPECT_LT(w.sweepDistance(ObjectId::part(peg), at(0, 0, 0.01), ObjectId::part(disc), FilterMode::SkipCoplanar, -up), 1e-9)
+      << "pushed down it is in contact at once";
+  EXPECT_NEAR(w.sweepDistance(ObjectId::part(high), at(0.012, 0, 0.03), ObjectId::part(disc), FilterMode::SkipCoplanar, -up), 0.02, 1e-9);
+  EXPECT_DOUBLE_EQ(w.sweepDistance(ObjectId::part(high), at(0.012, 0, 0.03), ObjectId::part(disc), FilterMode::SkipCoplanar, -up, 0.005),
+                   0.005)
+      << "a caller going no farther than 5 mm learns only that nothing is nearer";
+}
+
+TEST(FirstBlockBy, TwoEqualShaftsEndToEndMeetThoughTheirSurfacesNeverCross) {
+  // Two rods (r 5 mm, 20 mm long) on one axis, 5 mm apart; a tube whose bore fits the lower rod exactly.
+  // Pushed into each other the rods' surfaces cross only at the rims and their coaxial faces coincide, so
+  // no surface test sees the block; the shared volume does.
+  ctest::SceneBuilder b;
+  const PartId upper = b.part("upper", primitives::cylinder(0.005, 0.02, 48), at(0, 0, 0.035));
+  const PartId lower = b.part("lower", primitives::cylinder(0.005, 0.02, 48), at(0, 0, 0.01));
+  const PartId tube = b.part("tube", primitives::tube(0.01, 0.005, 0.01, 48), at(0.05, 0, 0.005));
+  b.base(upper);
+  const CollisionWorld w(b.a);
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const Eigen::Isometry3d home = at(0, 0, 0.01);
+  EXPECT_NEAR(w.coaxialOverlapAlong(ObjectId::part(lower), home, ObjectId::part(upper), up), 0.005 + 1e-5, 1e-9)
+      << "they share volume once the lower one is a tolerance into the upper one";
+  EXPECT_TRUE(std::isinf(w.coaxialOverlapAlong(ObjectId::part(lower), home, ObjectId::part(upper), -up)));
+  const MotionEvent meet = firstBlockBy(w, ObjectId::part(lower), ObjectId::part(upper), translation(home, up, 0.04), FilterMode::SkipCoaxial);
+  ASSERT_EQ(meet.kind, EventKind::Blocked) << "no longer passes through the other rod";
+  EXPECT_NEAR(meet.s, 0.005, 2e-5);
+  EXPECT_EQ(firstBlockBy(w, ObjectId::part(lower), ObjectId::part(upper), translation(home, -up, 0.04), FilterMode::SkipCoaxial).kind,
+            EventKind::None);
+  // A shaft in a bore of its own size is the opposite kind: it slides through, nothing shared.
+  EXPECT_TRUE(std::isinf(w.coaxialOverlapAlong(ObjectId::part(lower), at(0.05, 0, 0.02), ObjectId::part(tube), -up)));
+  // Already 10 mm into the other: blocked where it stands, either way along the axis.
+  const MotionEvent inside = firstBlockBy(w, ObjectId::part(lower), ObjectId::part(upper), translation(at(0, 0, 0.025), -up, 0.04),
+                                          FilterMode::SkipCoaxial);
+  EXPECT_EQ(inside.kind, EventKind::Blocked);
+  EXPECT_TRUE(inside.initiallyBlocked);
 }
 
 // ---- the order an assembly goes together in, on shapes made in code ----

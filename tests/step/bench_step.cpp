@@ -115,6 +115,7 @@ void BM_PlanSequence(benchmark::State& state) {
   state.counters["parts"] = static_cast<double>(a.parts.size());
   state.counters["sweeps"] = plan.sweeps;
   state.counters["reused"] = plan.reused;
+  state.counters["checks"] = plan.evaluations;
   state.counters["ordered"] = static_cast<double>(plan.order.size());
 }
 

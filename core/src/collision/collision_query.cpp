@@ -244,6 +244,12 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
       return std::abs((c2 - c1).dot(u)) > r + margin;
     };
     if (apart(e1) || apart(e2) || (across.norm() > 1e-12 && apart(across.normalized()))) return std::numeric_limits<double>::max();
+    // Behind the mover: everything of the obstacle's volume lies no farther along the motion than the
+    // mover's rearmost point (within the margin), so the motion only takes them apart (a bolt's head
+    // leaving the bracket it sat on, a nut leaving the plate).
+    double r = 0.0;
+    for (int k = 0; k < 3; ++k) r += o1.extent[k] * std::abs(o1.axis.col(k).dot(dir)) + o2.extent[k] * std::abs(axes2.col(k).dot(dir));
+    if ((c2 - c1).dot(dir) + r <= margin) return std::numeric_limits<double>::max();
     return fcl::detail::MeshDistanceTraversalNodeOBBRSS<double>::BVTesting(b1, b2);
   }
 
@@ -254,13 +260,20 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     const fcl::Triangle& t2 = this->tri_indices2[i2];
     const Tri p{this->vertices1[t1[0]], this->vertices1[t1[1]], this->vertices1[t1[2]]};
     const Tri q{this->tf * this->vertices2[t2[0]], this->tf * this->vertices2[t2[1]], this->tf * this->vertices2[t2[2]]};
-    if (neverMeet(p, q) || filtered(i1, i2)) return;
+    if (behind(p, q) || neverMeet(p, q) || filtered(i1, i2)) return;
     fcl::Vector3d P, Q;
     const double d = fcl::detail::TriangleDistance<double>::triDistance(p[0], p[1], p[2], q[0], q[1], q[2], P, Q);
     if (d < this->result->min_distance) this->result->update(d, this->model1, this->model2, i1, i2);
   }
 
  private:
+  // The obstacle's triangle nowhere ahead of the mover's along the motion: they only move apart.
+  bool behind(const Tri& p, const Tri& q) const {
+    const double pMin = std::min({p[0].dot(dir), p[1].dot(dir), p[2].dot(dir)});
+    const double qMax = std::max({q[0].dot(dir), q[1].dot(dir), q[2].dot(dir)});
+    return qMax <= pMin + margin;
+  }
+
   // Separated shadows: some edge normal of either projected triangle separates them by more than the margin.
   bool neverMeet(const Tri& p, const Tri& q) const {
     std::array<Eigen::Vector2d, 3> a, b;
@@ -460,7 +473,7 @@ double CollisionWorld::distance(ObjectId a, const Eigen::Isometry3d& poseA, Obje
 }
 
 double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
-                                     const Eigen::Vector3d& direction) const {
+                                     const Eigen::Vector3d& direction, double atMost) const {
   const WorldObject& A = impl_->get(a);
   const WorldObject& B = impl_->get(b);
   if (!A.bvh || !B.bvh || !(direction.norm() > 0.0)) return distance(a, poseA, b);
@@ -490,10 +503,52 @@ double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA,
   node.sinAngle = std::sin(ctx.tol.angle);
   // Shadows closer than this count as overlapping: rounding, and the two tessellations' sagittas.
   node.margin = ctx.tol.distance;
-  res.min_distance = std::numeric_limits<double>::max();
+  // FCL's traversal prunes every pair of volumes no nearer than the best distance so far: starting from
+  // the cap prunes what lies beyond it from the first step.
+  const bool capped = std::isfinite(atMost);
+  res.min_distance = capped ? std::max(0.0, atMost) : std::numeric_limits<double>::max();
   fcl::detail::distance(&node, nullptr, 2);
-  if (res.min_distance >= std::numeric_limits<double>::max()) return std::numeric_limits<double>::infinity();
+  if (!capped && res.min_distance >= std::numeric_limits<double>::max()) return std::numeric_limits<double>::infinity();
   return std::max(0.0, res.min_distance);
+}
+
+double CollisionWorld::coaxialOverlapAlong(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b,
+                                            const Eigen::Vector3d& direction) const {
+  const WorldObject& A = impl_->get(a);
+  const WorldObject& B = impl_->get(b);
+  double first = std::numeric_limits<double>::infinity();
+  if (!A.patches || !B.patches || !(direction.norm() > 0.0)) return first;
+  const Tolerances& tol = impl_->tol;
+  const Eigen::Vector3d dir = direction.normalized();
+  const Eigen::Isometry3d tfA = A.fclPose(poseA), tfB = B.fclPose(B.pose);
+  const double cosAngle = std::cos(tol.angle);
+  for (const CylindricalPatch& ca : A.patches->cylinders) {
+    if (ca.coverage <= std::numbers::pi) continue;
+    const Eigen::Vector3d u = tfA.linear() * ca.direction;
+    const double k = u.dot(dir);  // axial travel per unit of motion
+    if (std::abs(k) < cosAngle) continue;  // moved off its axis it stops being coaxial
+    const Eigen::Vector3d pa = tfA * ca.point;
+    for (const CylindricalPatch& cb : B.patches->cylinders) {
+      if (cb.convex != ca.convex || cb.coverage <= std::numbers::pi || std::abs(ca.radius - cb.radius) > tol.radius) continue;
+      const Eigen::Vector3d v = tfB.linear() * cb.direction;
+      if (std::abs(u.dot(v)) < cosAngle) continue;
+      const Eigen::Vector3d pb = tfB * cb.point;
+      Eigen::Vector3d off = pb - pa;
+      off -= u * u.dot(off);
+      if (off.norm() > tol.distance + tol.radius) continue;
+      // Axial intervals along u; a shift x of A's overlaps B's by more than the tolerance for x in (lo, hi).
+      const double a0 = 0.0, a1 = ca.length;
+      const double bStart = u.dot(pb - pa), bEnd = bStart + cb.length * u.dot(v);
+      const double b0 = std::min(bStart, bEnd), b1 = std::max(bStart, bEnd);
+      const double lo = b0 + tol.distance - a1, hi = b1 - tol.distance - a0;
+      if (!(lo < hi)) continue;
+      // x = k t for a travel t >= 0.
+      const double t = k > 0.0 ? (hi <= 0.0 ? std::numeric_limits<double>::infinity() : std::max(0.0, lo) / k)
+                               : (lo >= 0.0 ? std::numeric_limits<double>::infinity() : std::max(0.0, -hi) / -k);
+      first = std::min(first, t);
+    }
+  }
+  return first;
 }
 
 }  // namespace vaw::collision

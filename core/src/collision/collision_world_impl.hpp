@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstring>
 #include <cmath>
+#include <numbers>
 #include <functional>
 #include <limits>
 #include <map>

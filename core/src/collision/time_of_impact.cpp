@@ -218,7 +218,22 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
     ev.contacts = world.query(mover, motion.pose(hi), obstacle, all).contacts;
     return ev;
   };
-  if (isBlocked(motion.s0)) {
+  // Narrowed to the tolerance between a free lo and a blocked hi.
+  auto bisect = [&](double lo, double hi) {
+    for (int b = 0; b < options.maxIterations && (hi - lo) * L > options.tolerance; ++b) {
+      const double mid = 0.5 * (lo + hi);
+      (isBlocked(mid) ? hi : lo) = mid;
+    }
+    return finish(lo, hi);
+  };
+  const Eigen::Isometry3d start = motion.pose(motion.s0), end = motion.pose(motion.s1);
+  const Eigen::Vector3d travel = end.translation() - start.translation();
+  const bool straight = (end.linear() - start.linear()).norm() < 1e-12 && travel.norm() > 0.0;
+  // Solids that share volume without their surfaces crossing (two equal shafts end to end) block where
+  // their coaxial cylinders start to overlap: the sweep ends there unless something blocks it first.
+  double until = motion.s1;
+  if (straight && L > 0.0) until = std::min(until, motion.s0 + world.coaxialOverlapAlong(mover, start, obstacle, travel.normalized()) / L);
+  if (until <= motion.s0 || isBlocked(motion.s0)) {
     ev.initiallyBlocked = true;
     return finish(motion.s0, motion.s0);
   }
@@ -226,17 +241,16 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
   double s = motion.s0;
   // A straight translation advances by the distance to what could still block it on the way (the contact
   // it slides along, and whatever it passes at a clearance, left out); any other motion by the distance.
-  const Eigen::Isometry3d start = motion.pose(motion.s0), end = motion.pose(motion.s1);
-  const Eigen::Vector3d travel = end.translation() - start.translation();
-  const bool straight = (end.linear() - start.linear()).norm() < 1e-12 && travel.norm() > 0.0;
   const auto gapAt = [&](double at) {
-    return straight ? world.sweepDistance(mover, motion.pose(at), obstacle, mode, travel.normalized())
+    // Beyond the rest of the way plus the tolerance a gap decides nothing more: the search stops there.
+    return straight ? world.sweepDistance(mover, motion.pose(at), obstacle, mode, travel.normalized(),
+                                          (until - at) * L + options.tolerance)
                     : world.distance(mover, motion.pose(at), obstacle);
   };
   // A distance query between parts in contact is the costliest check there is, and sliding parts stay in
   // contact: after each near one, the next few steps are sampled without asking, twice as many each time.
   int unasked = 0, skipNext = 1;
-  for (int it = 0; it < options.maxIterations && s < motion.s1; ++it) {
+  for (int it = 0; it < options.maxIterations && s < until; ++it) {
     if (unasked > 0) {
       --unasked;
     } else {
@@ -244,24 +258,25 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
       const double gap = gapAt(s);
       // No point moves faster than L: nothing meets before the gap less half the tolerance is closed.
       if (gap - 0.5 * options.tolerance >= options.maxStep) {
-        s = std::min(motion.s1, s + (gap - 0.5 * options.tolerance) / L);
+        s = std::min(until, s + (gap - 0.5 * options.tolerance) / L);
         skipNext = 1;
         continue;
+      }
+      // Touching at the start: most such ways are blocked at once (a nut moved up into the plate it sits
+      // under), which a check a few tolerances along brackets (a block is a penetration beyond the
+      // tolerance and the facets' sagitta); otherwise bisection would narrow a whole step.
+      if (s == motion.s0 && gap <= options.tolerance) {
+        const double probe = std::min(until, s + 4.0 * options.tolerance / L);
+        if (isBlocked(probe)) return bisect(s, probe);
       }
       unasked = skipNext;
       skipNext = std::min(2 * skipNext, 64);
     }
-    const double next = std::min(motion.s1, s + options.maxStep / L);
-    if (isBlocked(next)) {
-      double lo = s, hi = next;
-      for (int b = 0; b < options.maxIterations && (hi - lo) * L > options.tolerance; ++b) {
-        const double mid = 0.5 * (lo + hi);
-        (isBlocked(mid) ? hi : lo) = mid;
-      }
-      return finish(lo, hi);
-    }
+    const double next = std::min(until, s + options.maxStep / L);
+    if (isBlocked(next)) return bisect(s, next);
     s = next;
   }
+  if (s >= until && until < motion.s1) return finish(until, until);
   // Out of iterations before the end of the motion: not known to be free.
   ev.undecided = s < motion.s1;
   if (ev.undecided) ev.s = ev.sEvent = s;

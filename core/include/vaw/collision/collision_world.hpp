@@ -9,6 +9,7 @@
 // object's index), never by pointer. Poses are part frame -> world, SI units.
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -247,10 +248,22 @@ class CollisionWorld {
   // How far a (at poseA) can translate along `direction` before anything of b could block it, as a lower
   // bound: the smallest distance over the triangle pairs that could still meet on the way (docs/collision.md,
   // "Time of impact"). Left out: pairs whose shadows across the direction do not overlap, which never meet,
-  // and pairs `mode` skips that stay skipped along the motion. Infinite when nothing can meet; distance()
-  // for primitives.
+  // and pairs `mode` skips that stay skipped along the motion, and pairs the motion only takes apart (the
+  // obstacle's triangle nowhere ahead of the mover's). Infinite when nothing can meet; distance() for
+  // primitives. `atMost`: a caller that moves no farther needs no more; any distance from it on is
+  // returned as `atMost`, which lets the search drop everything farther at once.
   [[nodiscard]] double sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
-                                     const Eigen::Vector3d& direction) const;
+                                     const Eigen::Vector3d& direction,
+                                     double atMost = std::numeric_limits<double>::infinity()) const;
+
+  // How far a (at poseA) can translate along `direction` before one of its cylinders and an equal, coaxial
+  // cylinder of b of the same kind (two shafts end to end, two bores) overlap along their axis by more than
+  // the distance tolerance: the two solids then share volume, which their surfaces do not show (they cross
+  // only at the rims, and the coaxial faces coincide). 0 when they overlap already; infinite when no such
+  // pair comes to overlap. Only cylinders covering more than half a turn count, so that the two arcs must
+  // share an angle.
+  [[nodiscard]] double coaxialOverlapAlong(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b,
+                                           const Eigen::Vector3d& direction) const;
 
   // The support of a part on the base from a mate or insert constraint (patches matched once).
   [[nodiscard]] Support support(const Constraint& constraint) const;
