@@ -352,6 +352,7 @@ TEST(PlanSequence, APegUnderABlockGoesInFirstAndAPartWithNoFreeWayIsNamed) {
   EXPECT_EQ(plan.precedence[0].after, block);
   EXPECT_EQ(plan.precedence[0].reason, eval::Precedence::Reason::Blocks);
   EXPECT_NEAR(plan.checkOf(peg)->directions.front().blockers.at(0).distance, 0.003, 2e-5);
+  EXPECT_EQ(plan.sweeps, 1) << "the peg against the block; the plate the peg stands on is behind it on its way up, not swept";
 
   // The block's way flipped to come up from below the plate: the plate is always there, so nothing puts
   // the block in, and the peg still goes in.

@@ -232,6 +232,7 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
   // Two bounding volumes whose shadows across the motion are apart hold no pair that can meet: pruned
   // whole, which keeps the traversal from visiting every pair of a shaft and its bore.
   double BVTesting(int b1, int b2) const override {
+    if (apartAlongAxes(b1, b2)) return std::numeric_limits<double>::max();
     const fcl::OBBd& o1 = this->model1->getBV(b1).bv.obb;
     const fcl::OBBd& o2 = this->model2->getBV(b2).bv.obb;
     const Eigen::Vector3d c1 = o1.To, c2 = this->tf * o2.To;
@@ -250,6 +251,10 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     double r = 0.0;
     for (int k = 0; k < 3; ++k) r += o1.extent[k] * std::abs(o1.axis.col(k).dot(dir)) + o2.extent[k] * std::abs(axes2.col(k).dot(dir));
     if ((c2 - c1).dot(dir) + r <= margin) return std::numeric_limits<double>::max();
+    // Whole nodes the filter drops (a shank's facets in the plate's bore, both all on one cylinder).
+    if (filtered(A().nodePlane[static_cast<std::size_t>(b1)], B().nodePlane[static_cast<std::size_t>(b2)],
+                 A().nodeCylinder[static_cast<std::size_t>(b1)], B().nodeCylinder[static_cast<std::size_t>(b2)]))
+      return std::numeric_limits<double>::max();
     return fcl::detail::MeshDistanceTraversalNodeOBBRSS<double>::BVTesting(b1, b2);
   }
 
@@ -260,13 +265,31 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     const fcl::Triangle& t2 = this->tri_indices2[i2];
     const Tri p{this->vertices1[t1[0]], this->vertices1[t1[1]], this->vertices1[t1[2]]};
     const Tri q{this->tf * this->vertices2[t2[0]], this->tf * this->vertices2[t2[1]], this->tf * this->vertices2[t2[2]]};
-    if (behind(p, q) || neverMeet(p, q) || filtered(i1, i2)) return;
+    const int ta = A().bvhToMesh[static_cast<std::size_t>(i1)], tb = B().bvhToMesh[static_cast<std::size_t>(i2)];
+    if (behind(p, q) || neverMeet(p, q) ||
+        filtered(A().patches->planeOf[static_cast<std::size_t>(ta)], B().patches->planeOf[static_cast<std::size_t>(tb)],
+                 A().patches->cylinderOf[static_cast<std::size_t>(ta)], B().patches->cylinderOf[static_cast<std::size_t>(tb)]))
+      return;
     fcl::Vector3d P, Q;
     const double d = fcl::detail::TriangleDistance<double>::triDistance(p[0], p[1], p[2], q[0], q[1], q[2], P, Q);
     if (d < this->result->min_distance) this->result->update(d, this->model1, this->model2, i1, i2);
   }
 
+  // The motion and the two shadow axes in B's frame (set with the pose).
+  Eigen::Matrix3d inB = Eigen::Matrix3d::Identity();
+
  private:
+  // The same two tests (shadows apart, obstacle behind) on the nodes' boxes along the meshes' own axes.
+  bool apartAlongAxes(int b1, int b2) const {
+    const Eigen::AlignedBox3d& x1 = (*A().nodeBox)[static_cast<std::size_t>(b1)];
+    const Eigen::AlignedBox3d& x2 = (*B().nodeBox)[static_cast<std::size_t>(b2)];
+    const Eigen::Vector3d h1 = 0.5 * x1.sizes(), h2 = 0.5 * x2.sizes();
+    const Eigen::Vector3d gap = this->tf * x2.center() - x1.center();
+    const auto reach = [&](const Eigen::Vector3d& u, int k) { return h1.dot(u.cwiseAbs()) + h2.dot(inB.col(k).cwiseAbs()); };
+    if (std::abs(gap.dot(e1)) > reach(e1, 1) + margin || std::abs(gap.dot(e2)) > reach(e2, 2) + margin) return true;
+    return gap.dot(dir) + reach(dir, 0) <= margin;
+  }
+
   // The obstacle's triangle nowhere ahead of the mover's along the motion: they only move apart.
   bool behind(const Tri& p, const Tri& q) const {
     const double pMin = std::min({p[0].dot(dir), p[1].dot(dir), p[2].dot(dir)});
@@ -303,12 +326,14 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     return false;
   }
 
-  bool filtered(int i1, int i2) const {
-    const int ta = ctx->A->bvhToMesh[static_cast<std::size_t>(i1)];
-    const int tb = ctx->B->bvhToMesh[static_cast<std::size_t>(i2)];
+  [[nodiscard]] const WorldObject& A() const { return *ctx->A; }
+  [[nodiscard]] const WorldObject& B() const { return *ctx->B; }
+
+  // Whether the filter drops a pair of triangles, or of hierarchy nodes, on these planar and cylindrical
+  // patches (-1: none, or not all on one).
+  bool filtered(int planeA, int planeB, int ca, int cb) const {
     const SurfacePatches& pa = *ctx->A->patches;
     const SurfacePatches& pb = *ctx->B->patches;
-    const int planeA = pa.planeOf[static_cast<std::size_t>(ta)], planeB = pb.planeOf[static_cast<std::size_t>(tb)];
     // Coincident planes stay coincident while the motion lies in them (the collision query drops them as
     // touching).
     if (planeA >= 0 && planeB >= 0 && std::abs(pa.planes[static_cast<std::size_t>(planeA)].normal.dot(dir)) <= sinAngle &&
@@ -316,7 +341,6 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
       return true;
     if (ctx->mode != FilterMode::SkipCoaxial) return false;
     // Along the common axis only: moved sideways, coaxial cylinders stop being coaxial.
-    const int ca = pa.cylinderOf[static_cast<std::size_t>(ta)], cb = pb.cylinderOf[static_cast<std::size_t>(tb)];
     const auto alongA = [&](int c) { return std::abs(pa.cylinders[static_cast<std::size_t>(c)].direction.dot(dir)) >= cosAngle; };
     const auto alongB = [&](int c) { return std::abs((ctx->R * pb.cylinders[static_cast<std::size_t>(c)].direction).dot(dir)) >= cosAngle; };
     if (ca >= 0 && cb >= 0) return alongA(ca) && ctx->cylindersCoaxial(ca, cb);
@@ -499,6 +523,7 @@ double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA,
   node.dir = (tf1.linear().transpose() * direction).normalized();
   node.e1 = node.dir.unitOrthogonal();
   node.e2 = node.dir.cross(node.e1);
+  node.inB << node.tf.linear().transpose() * node.dir, node.tf.linear().transpose() * node.e1, node.tf.linear().transpose() * node.e2;
   node.cosAngle = ctx.cosAngle;
   node.sinAngle = std::sin(ctx.tol.angle);
   // Shadows closer than this count as overlapping: rounding, and the two tessellations' sagittas.

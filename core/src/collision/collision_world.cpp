@@ -109,6 +109,7 @@ void buildMesh(WorldObject& o, std::shared_ptr<const TriMesh> mesh, const PatchO
   const int nodes = bvh->getNumBVs();
   o.nodePlane.assign(static_cast<std::size_t>(nodes), -1);
   o.nodeCylinder.assign(static_cast<std::size_t>(nodes), -1);
+  auto boxes = std::make_shared<std::vector<Eigen::AlignedBox3d>>(static_cast<std::size_t>(nodes));
   for (int i = nodes - 1; i >= 0; --i) {
     const auto& node = bvh->getBV(i);
     const auto k = static_cast<std::size_t>(i);
@@ -116,12 +117,15 @@ void buildMesh(WorldObject& o, std::shared_ptr<const TriMesh> mesh, const PatchO
       const auto tri = static_cast<std::size_t>(o.bvhToMesh[static_cast<std::size_t>(node.primitiveId())]);
       o.nodePlane[k] = o.patches->planeOf[tri];
       o.nodeCylinder[k] = o.patches->cylinderOf[tri];
+      for (int c = 0; c < 3; ++c) (*boxes)[k].extend(verts[static_cast<std::size_t>(tris[static_cast<std::size_t>(node.primitiveId())][c])]);
     } else {
       const auto c0 = static_cast<std::size_t>(node.first_child), c1 = c0 + 1;
       o.nodePlane[k] = o.nodePlane[c0] == o.nodePlane[c1] ? o.nodePlane[c0] : -1;
       o.nodeCylinder[k] = o.nodeCylinder[c0] == o.nodeCylinder[c1] ? o.nodeCylinder[c0] : -1;
+      (*boxes)[k] = (*boxes)[c0].merged((*boxes)[c1]);
     }
   }
+  o.nodeBox = std::move(boxes);
   o.geometry = bvh;
   o.info.triangles = tris.size();
   o.info.planarPatches = o.patches->planes.size();
@@ -315,6 +319,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
       o.patches = first.patches;
       o.nodePlane = first.nodePlane;
       o.nodeCylinder = first.nodeCylinder;
+      o.nodeBox = first.nodeBox;
       o.localBounds = first.localBounds;
       o.info.proxy = first.info.proxy;
       o.info.triangles = first.info.triangles;
@@ -394,6 +399,7 @@ CollisionWorld CollisionWorld::instance() const {
     o.patches = from.patches;
     o.nodePlane = from.nodePlane;
     o.nodeCylinder = from.nodeCylinder;
+    o.nodeBox = from.nodeBox;
     o.pose = from.pose;
     o.geometryOffset = from.geometryOffset;
     o.localBounds = from.localBounds;

@@ -262,10 +262,11 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
         skipNext = 1;
         continue;
       }
-      // Touching at the start: most such ways are blocked at once (a nut moved up into the plate it sits
-      // under), which a check a few tolerances along brackets (a block is a penetration beyond the
-      // tolerance and the facets' sagitta); otherwise bisection would narrow a whole step.
-      if (s == motion.s0 && gap <= options.tolerance) {
+      // Touching: most such ways are blocked right there (a nut moved up into the plate it sits under, a
+      // bolt's head come down onto the plate), which a check a few tolerances along brackets (a block is
+      // a penetration beyond the tolerance and the facets' sagitta); otherwise bisection would narrow a
+      // whole step. A contact it slides along pays one check each time its distance is asked.
+      if (gap <= options.tolerance) {
         const double probe = std::min(until, s + 4.0 * options.tolerance / L);
         if (isBlocked(probe)) return bisect(s, probe);
       }
