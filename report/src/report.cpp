@@ -62,25 +62,61 @@ Eigen::AlignedBox3d assembledBounds(const Assembly& a, const SequencePlan& plan)
   return box;
 }
 
-std::string picture(const Assembly& a, const SequencePlan& plan, const Eigen::AlignedBox3d& box, std::optional<std::size_t> step, int w,
-                    int h) {
+// `shown`: the positions in the order drawn in colour (the ones before them grey, the ones after left
+// out); none: the whole assembly. One part shown gets the arrow of its way home.
+std::string picture(const Assembly& a, const SequencePlan& plan, const Eigen::AlignedBox3d& box,
+                    std::optional<std::pair<std::size_t, std::size_t>> shown, int w, int h) {
   detail::Picture pic(w, h, box);
-  const std::size_t upto = step ? *step : plan.order.size() - 1;
-  for (std::size_t i = 0; i <= upto && i < plan.order.size(); ++i) {
+  const std::size_t end = shown ? shown->second : plan.order.size();
+  for (std::size_t i = 0; i < end && i < plan.order.size(); ++i) {
     const PartId p = plan.order[i];
-    const bool current = step && i == *step;
-    pic.draw({a.parts[p].mesh.get(), homeOf(a, p), !step || current ? colorOf(a, p) : Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
+    const bool current = !shown || i >= shown->first;
+    pic.draw({a.parts[p].mesh.get(), homeOf(a, p), current ? colorOf(a, p) : Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
   }
-  if (!step)
+  if (!shown)
     for (const auto& s : plan.stuck) pic.draw({a.parts[s.part].mesh.get(), homeOf(a, s.part), Eigen::Vector3f(0.85f, 0.15f, 0.15f)});
-  if (step && *step > 0)
-    if (const Direction* way = plan.wayOf(plan.order[*step])) {
-      const PartId p = plan.order[*step];
+  if (shown && shown->first > 0 && shown->second == shown->first + 1)
+    if (const Direction* way = plan.wayOf(plan.order[shown->first])) {
+      const PartId p = plan.order[shown->first];
       const Eigen::Vector3d centre = homeOf(a, p) * a.parts[p].mass.centerOfMass;
       pic.arrow(centre + 0.25 * way->out * box.diagonal().norm() * 0.3, -way->out, 0.25 * box.diagonal().norm(),
                 Eigen::Vector3f(0.85f, 0.1f, 0.1f));
     }
   return pic.dataUri();
+}
+
+// A part's kind: its name without the " #2" its repetition added ("bolt-1 #17" is a "bolt-1").
+std::string kindOf(const std::string& name) {
+  const auto hash = name.rfind(" #");
+  if (hash == std::string::npos || hash + 2 >= name.size()) return name;
+  return std::all_of(name.begin() + static_cast<std::ptrdiff_t>(hash) + 2, name.end(), [](char c) { return c >= '0' && c <= '9'; })
+             ? name.substr(0, hash)
+             : name;
+}
+
+// "bolt-1 x54, nut-1 x54" in order of first appearance, at most `most` kinds named.
+std::string kindsText(const Assembly& a, const std::vector<PartId>& parts, std::size_t most = 8) {
+  std::vector<std::pair<std::string, int>> kinds;
+  for (const PartId p : parts) {
+    const std::string k = kindOf(a.parts[p].name);
+    const auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& e) { return e.first == k; });
+    if (it == kinds.end()) kinds.emplace_back(k, 1);
+    else ++it->second;
+  }
+  std::string out;
+  for (std::size_t i = 0; i < kinds.size() && i < most; ++i)
+    out += (out.empty() ? "" : ", ") + kinds[i].first + (kinds[i].second > 1 ? " \u00d7" + std::to_string(kinds[i].second) : "");
+  if (kinds.size() > most) out += " and " + std::to_string(kinds.size() - most) + " more kinds";
+  return out;
+}
+
+// The order's steps: runs of positions with the same step number (the parts any order may put in at once).
+std::vector<std::pair<std::size_t, std::size_t>> stepRuns(const SequencePlan& plan) {
+  std::vector<std::pair<std::size_t, std::size_t>> runs;
+  for (std::size_t i = 0; i < plan.order.size(); ++i)
+    if (runs.empty() || plan.step[i] != plan.step[runs.back().first]) runs.emplace_back(i, i + 1);
+    else runs.back().second = i + 1;
+  return runs;
 }
 
 std::string barChart(const std::vector<PartRow>& rows, bool withSessions) {
@@ -122,6 +158,39 @@ std::string barChart(const std::vector<PartRow>& rows, bool withSessions) {
     s += buf;
   }
   return s + "</svg>";
+}
+
+// A chart of a few dozen bars is read; one of a thousand is not: beyond that, a bar per kind of part
+// ("bolt-1 (x54)"), the kind's mean estimate and mean time to place.
+std::vector<PartRow> chartRows(std::vector<PartRow> rows) {
+  constexpr std::size_t kBars = 60;
+  if (rows.size() <= kBars) return rows;
+  std::vector<PartRow> kinds;
+  std::vector<int> count;
+  std::vector<std::vector<double>> times;
+  for (const PartRow& r : rows) {
+    const std::string k = kindOf(r.name);
+    std::size_t i = 0;
+    while (i < kinds.size() && kinds[i].name != k) ++i;
+    if (i == kinds.size()) {
+      kinds.push_back(r);
+      kinds.back().name = k;
+      kinds.back().estimate.handling_s = kinds.back().estimate.insertion_s = 0.0;
+      count.push_back(0);
+      times.emplace_back();
+    }
+    kinds[i].estimate.handling_s += r.estimate.handling_s;
+    kinds[i].estimate.insertion_s += r.estimate.insertion_s;
+    ++count[i];
+    if (r.timeToPlace.n > 0) times[i].push_back(r.timeToPlace.mean);
+  }
+  for (std::size_t i = 0; i < kinds.size(); ++i) {
+    kinds[i].estimate.handling_s /= count[i];
+    kinds[i].estimate.insertion_s /= count[i];
+    if (count[i] > 1) kinds[i].name += " (\u00d7" + std::to_string(count[i]) + ")";
+    kinds[i].timeToPlace = spread(times[i]);
+  }
+  return kinds;
 }
 
 const char* stateColor(interact::PartState s) {
@@ -339,26 +408,71 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
        (plan.complete() ? "An order puts every part in place."
                         : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
        " " + std::to_string(plan.order.size()) + " parts in the order, base " + html(a.parts[*plan.base].name) + ".</p>\n";
-  const std::size_t pictured = std::min<std::size_t>(plan.order.size(), 40);
+  // The steps first, one row each: what goes in, how, and what it costs by the estimate.
+  const auto runs = stepRuns(plan);
+  std::map<PartId, double> estimate;
+  for (const auto& r : rows) estimate[r.part] = r.estimate.total_s();
+  h += "<h2>Summary</h2>\n<table id='summary'><tr><th>step</th><th>parts</th><th>which</th><th>comes home</th><th>estimate s</th></tr>\n";
+  double total = 0.0;
+  for (const auto& [from, to] : runs) {
+    std::vector<PartId> parts(plan.order.begin() + static_cast<std::ptrdiff_t>(from), plan.order.begin() + static_cast<std::ptrdiff_t>(to));
+    std::set<std::string> ways;
+    double sum = 0.0;
+    for (const PartId p : parts) {
+      if (const Direction* way = plan.wayOf(p)) ways.insert(travelText(way->out));
+      if (p != *plan.base) sum += estimate[p];
+    }
+    total += sum;
+    std::string how;
+    for (const auto& w : ways) how += (how.empty() ? "" : ", ") + w;
+    h += "<tr><td class='n'>" + std::to_string(plan.step[from]) + "</td><td class='n'>" + std::to_string(parts.size()) + "</td><td>" +
+         html(kindsText(a, parts)) + "</td><td>" + html(from == 0 && parts.size() == 1 ? "(the base)" : how) + "</td><td class='n'>" +
+         formatNumber(sum) + "</td></tr>\n";
+  }
+  h += "<tr><th></th><th class='n'>" + std::to_string(plan.order.size()) + "</th><th>" +
+       (plan.stuck.empty() ? std::string() : std::to_string(plan.stuck.size()) + " without an order") + "</th><th></th><th class='n'>" +
+       formatNumber(total) + "</th></tr>\n</table>\n";
+
+  // A picture per part up to a few dozen; beyond, one per step (every part it puts in, in colour).
+  constexpr std::size_t kPictures = 40;
+  const bool perStep = plan.order.size() > kPictures;
+  std::vector<std::pair<std::size_t, std::size_t>> shown;
+  if (perStep) shown.assign(runs.begin(), runs.begin() + static_cast<std::ptrdiff_t>(std::min(runs.size(), kPictures)));
+  else
+    for (std::size_t i = 0; i < plan.order.size(); ++i) shown.emplace_back(i, i + 1);
   // A picture takes a fraction of a second; the caller may stop between two (nothing is written yet).
   const auto drawn = [&](std::size_t count) {
-    if (progress && !progress(static_cast<double>(count) / static_cast<double>(pictured + 1),
-                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(pictured + 1)))
+    if (progress && !progress(static_cast<double>(count) / static_cast<double>(shown.size() + 1),
+                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(shown.size() + 1)))
       throw LoadCancelled();
   };
   drawn(0);
   h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, box, std::nullopt, 640, 440) + "'>\n";
-  h += "<h2>Order</h2>\n<div class='steps'>\n";
-  for (std::size_t i = 0; i < pictured; ++i) {
-    drawn(i + 1);
-    const PartId p = plan.order[i];
-    const Direction* way = plan.wayOf(p);
-    h += "<figure><img alt='step " + std::to_string(plan.step[i]) + "' width='320' height='220' src='" + picture(a, plan, box, i, 320, 220) +
-         "'><figcaption>" + std::to_string(i) + ". step " + std::to_string(plan.step[i]) + ": <b>" + html(a.parts[p].name) + "</b> " +
-         (way ? html(travelText(way->out) + " (" + way->from + ")") : std::string("(the base)")) + "</figcaption></figure>\n";
+  h += "<h2>Order</h2>\n";
+  if (perStep)
+    h += "<p>" + std::to_string(plan.order.size()) + " parts in " + std::to_string(runs.size()) +
+         " steps: a picture per step, its parts in colour; each part's place is in the table below.</p>\n";
+  h += "<div class='steps'>\n";
+  for (std::size_t k = 0; k < shown.size(); ++k) {
+    drawn(k + 1);
+    const auto [from, to] = shown[k];
+    const PartId p = plan.order[from];
+    std::string caption;
+    if (perStep) {
+      const std::vector<PartId> parts(plan.order.begin() + static_cast<std::ptrdiff_t>(from), plan.order.begin() + static_cast<std::ptrdiff_t>(to));
+      caption = "step " + std::to_string(plan.step[from]) + ": " + std::to_string(to - from) + " part" + (to - from == 1 ? "" : "s") + ", <b>" +
+                html(kindsText(a, parts, 4)) + "</b>";
+    } else {
+      const Direction* way = plan.wayOf(p);
+      caption = std::to_string(from) + ". step " + std::to_string(plan.step[from]) + ": <b>" + html(a.parts[p].name) + "</b> " +
+                (way ? html(travelText(way->out) + " (" + way->from + ")") : std::string("(the base)"));
+    }
+    h += "<figure><img alt='step " + std::to_string(plan.step[from]) + "' width='320' height='220' src='" +
+         picture(a, plan, box, shown[k], 320, 220) + "'><figcaption>" + caption + "</figcaption></figure>\n";
   }
   h += "</div>\n";
-  if (plan.order.size() > pictured) h += "<p>Steps after " + std::to_string(pictured) + " are in the table only.</p>\n";
+  if (perStep && runs.size() > shown.size())
+    h += "<p>Steps after " + std::to_string(plan.step[shown.back().first]) + " are in the tables only.</p>\n";
   if (!plan.complete()) {
     h += "<h2 class='stuck'>No order puts these in place</h2>\n<table id='stuck'><tr><th>part</th><th>way home</th><th>blocked by</th></tr>\n";
     for (const auto& s : plan.stuck) {
@@ -399,9 +513,12 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
            html(r.hands) + "</td>";
     h += "</tr>\n";
   }
-  h += "</table>\n<h2>Time per part</h2>\n<p>Orange: the estimate" +
+  const std::vector<PartRow> perPart(rows.begin() + (plan.order.empty() ? 0 : 1), rows.end());
+  const std::vector<PartRow> bars = chartRows(perPart);
+  h += "</table>\n<h2>Time per part</h2>\n<p>" +
+       std::string(bars.size() < perPart.size() ? "One bar per kind of part, the mean over its parts. " : "") + "Orange: the estimate" +
        std::string(withSessions ? "; blue: the mean time from first grab to PLACED over the sessions, with one standard deviation." : ".") +
-       "</p>\n" + barChart(std::vector<PartRow>(rows.begin() + (plan.order.empty() ? 0 : 1), rows.end()), withSessions) + "\n";
+       "</p>\n" + barChart(bars, withSessions) + "\n";
   for (const auto& s : sessions) {
     h += "<h2>Session " + html(s.label) + "</h2>\n<p>" + formatNumber(s.duration_s) + " s; " + std::to_string(s.placedOrder.size()) +
          " parts placed; " + std::to_string(s.grabs) + " grabs, " + std::to_string(s.drops) + " drops, " + std::to_string(s.refusals) +

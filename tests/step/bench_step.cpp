@@ -15,6 +15,7 @@
 #include "vaw/cad_assembly.hpp"
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/report/report.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
 
@@ -119,6 +120,19 @@ void BM_PlanSequence(benchmark::State& state) {
   state.counters["ordered"] = static_cast<double>(plan.order.size());
 }
 
+// The report of an ordered assembly (docs/evaluation.md, "The report"): the summary, the pictures, the
+// tables and the files, written into a temporary folder.
+void BM_Report(benchmark::State& state) {
+  const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(a);
+  const fs::path dir = fs::temp_directory_path() / ("vaw-bench-report-" + std::to_string(state.range(0)));
+  vaw::report::ReportFiles files;
+  for (auto _ : state) files = vaw::report::writeReport(a, plan, {}, dir);
+  state.counters["html_bytes"] = static_cast<double>(fs::file_size(files.html));
+  state.counters["parts"] = static_cast<double>(a.parts.size());
+  fs::remove_all(dir);
+}
+
 // Who goes first from the geometry (docs/step.md, "Who goes first"): part of every load, measured alone.
 void BM_GeometricPrecedence(benchmark::State& state) {
   const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
@@ -161,5 +175,6 @@ BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Report)->Arg(0)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

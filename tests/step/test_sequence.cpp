@@ -420,3 +420,59 @@ TEST(Report, TheHtmlShowsTheCsvsNumbersInChromium) {
       EXPECT_EQ(c[11], "2");
     }
 }
+
+TEST(Report, ALongOrderIsSummedUpByStepAndPicturedPerStep) {
+  // 96 parts in five tiles: past a few dozen parts the page shows a picture per step, not per part, and a
+  // summary table of the steps before everything else; the chart has a bar per kind of part.
+  const Assembly a = load("tiled-5x1.stp", [](const fs::path& f) { vaw::steptest::writeTiledProduct(f, 5, 1); });
+  const SequencePlan plan = vaw::eval::planSequence(a);
+  ASSERT_TRUE(plan.complete());
+  ASSERT_EQ(plan.order.size(), 96u);
+  std::vector<std::size_t> perStep;  // parts per step, in the order
+  for (std::size_t i = 0; i < plan.order.size(); ++i)
+    if (i == 0 || plan.step[i] != plan.step[i - 1]) perStep.push_back(1);
+    else ++perStep.back();
+  ASSERT_GT(perStep.size(), 2u);
+  const fs::path dir = fs::absolute("report-tiled-5x1");
+  const auto files = vaw::report::writeReport(a, plan, {}, dir);
+  EXPECT_LT(fs::file_size(files.html), 1u << 20) << "a page to open, not an archive";
+
+  const std::string chromium = "/usr/bin/chromium";
+  ASSERT_TRUE(fs::exists(chromium));
+  const std::string flags = " --headless --no-sandbox --disable-gpu --hide-scrollbars --virtual-time-budget=5000 ";
+  const std::string dom = run(chromium + flags + "--dump-dom 'file://" + files.html.string() + "' 2>/dev/null");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(dom, m, std::regex("data-pictures-shown=\"(\\d+)\"")));
+  EXPECT_EQ(std::stoul(m[1]), perStep.size() + 1) << "the assembly, and one picture per step";
+  (void)run(chromium + flags + "--window-size=1200,2400 --screenshot='" + (dir / "report.png").string() + "' 'file://" + files.html.string() +
+            "' 2>/dev/null");
+  EXPECT_GT(fs::file_size(dir / "report.png"), 20000u) << "a screenshot of the page, to look at";
+
+  // The summary comes first, a row per step with its number of parts, then the total.
+  const auto at = dom.find("id=\"summary\"");
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_LT(at, dom.find("<img")) << "the summary before the pictures";
+  const std::string table = dom.substr(at, dom.find("</table>", at) - at);
+  const std::regex row("<tr[^>]*>(.*?)</tr>"), cell("<t[dh][^>]*>(.*?)</t[dh]>");
+  std::vector<std::vector<std::string>> rows;
+  for (auto r = std::sregex_iterator(table.begin(), table.end(), row); r != std::sregex_iterator(); ++r) {
+    const std::string body = (*r)[1];
+    std::vector<std::string> cells;
+    for (auto c = std::sregex_iterator(body.begin(), body.end(), cell); c != std::sregex_iterator(); ++c) cells.push_back((*c)[1]);
+    rows.push_back(cells);
+  }
+  ASSERT_EQ(rows.size(), perStep.size() + 2) << "header, one row per step, total";
+  for (std::size_t k = 0; k < perStep.size(); ++k) EXPECT_EQ(rows[k + 1].at(1), std::to_string(perStep[k])) << "step row " << k;
+  EXPECT_EQ(rows.back().at(1), "96");
+  EXPECT_EQ(rows[1].at(2), "base-plate");
+  EXPECT_NE(rows[perStep.size()].at(2).find("nut-1 \u00d75"), std::string::npos) << "the nuts of all five tiles go in last, counted by kind";
+  // The chart: one bar per kind (the base left out), named with its count.
+  const auto chart = dom.substr(dom.find("aria-label=\"time per part\""));
+  std::set<std::string> kinds;
+  for (const auto& p : a.parts)
+    if (p.id != *a.base) kinds.insert(p.name.substr(0, p.name.rfind(" #") == std::string::npos ? p.name.size() : p.name.rfind(" #")));
+  std::size_t bars = 0;
+  for (auto at2 = chart.find("<title>estimate"); at2 != std::string::npos; at2 = chart.find("<title>estimate", at2 + 1)) ++bars;
+  EXPECT_EQ(bars, kinds.size());
+  EXPECT_NE(chart.find("nut-1 (\u00d75)"), std::string::npos);
+}
