@@ -20,6 +20,7 @@
 #include "run_command.hpp"
 #include "trials_command.hpp"
 #include "work_precision_command.hpp"
+#include "vaw/cad_assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
@@ -237,6 +238,8 @@ int dispatch(int argc, char** argv) {
   std::function<int()> command;
 
   InspectArgs ins;
+  const CLI::Validator upChoice(
+      [](const std::string& up) { return vaw::validUpChoice(up) ? std::string() : std::string("expected ") + vaw::kUpChoices; }, "UP");
   CLI::App* inspectCmd = app.add_subcommand(
       "inspect", "Load a scene (or a bare mesh file; a bundled scene by its name) and print, per part: name, mass, "
                  "volume, centre of mass, principal moments, category and why; per constraint, how it meets the base "
@@ -250,8 +253,9 @@ int dispatch(int argc, char** argv) {
                    "STEP files: the tessellation's chordal deflection as a fraction of each part's size (default 0.001)")
       ->check(CLI::Range(1e-5, 0.1));
   inspectCmd->add_option("--up", ins.up, "CAD files: which way the assembly stands: auto (the base on its most stable face, "
-                                         "the default) or the file's axis that points up: +x, -x, +y, -y, +z, -z")
-      ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
+                                         "the default), the file's axis that points up (+x, -x, +y, -y, +z, -z) or the file's "
+                                         "direction that points up as three numbers (\"0 0.6 0.8\")")
+      ->check(upChoice);
   addReaderLimits(inspectCmd, ins.import);
   inspectCmd->callback([&] { command = [&] { return inspect(ins); }; });
 
@@ -292,8 +296,9 @@ int dispatch(int argc, char** argv) {
       ->type_name("SESSION")->expected(1, -1);
   evCmd->add_option("--report", ev.report, "Write DIR/report.html with parts.csv, sequence.csv, sessions.csv and evaluation.json")
       ->type_name("DIR");
-  evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default) or the file's axis that points up")
-      ->check(CLI::IsMember({"auto", "+x", "-x", "+y", "-y", "+z", "-z"}));
+  evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default), the file's axis that points up or "
+                                   "its direction as three numbers")
+      ->check(upChoice);
   addReaderLimits(evCmd, ev.import);
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 

@@ -118,11 +118,33 @@ Eigen::Matrix3d turnOnto(const Eigen::Vector3d& from, const Eigen::Vector3d& to)
 
 }  // namespace
 
-bool validUpChoice(const std::string& up) { return up == "auto" || namedAxis(up).has_value(); }
+std::optional<Eigen::Vector3d> upDirection(const std::string& up) {
+  if (const auto axis = namedAxis(up)) return axis;
+  // Three numbers, as upForFaceDown writes them.
+  std::istringstream in(up);
+  Eigen::Vector3d d;
+  if (!(in >> d.x() >> d.y() >> d.z())) return std::nullopt;
+  in >> std::ws;
+  if (!in.eof() || !d.allFinite() || !(d.norm() > 1e-9)) return std::nullopt;
+  return d.normalized();
+}
+
+bool validUpChoice(const std::string& up) { return up == "auto" || upDirection(up).has_value(); }
+
+std::optional<std::string> upForFaceDown(const Assembly& a, const Eigen::Vector3d& normal) {
+  if (!a.base || a.cadFile.empty() || !(normal.norm() > 1e-12)) return std::nullopt;
+  const Eigen::Vector3d up = -(a.cadTurn.transpose() * (a.parts[*a.base].pose.linear() * normal.normalized()));
+  const char* names[] = {"x", "y", "z"};
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(std::abs(up[i]) - 1.0) < 1e-9) return std::string(up[i] > 0.0 ? "+" : "-") + names[i];
+  char text[96];
+  std::snprintf(text, sizeof text, "%.9g %.9g %.9g", up.x(), up.y(), up.z());
+  return std::string(text);
+}
 
 Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,
                            const std::string& up) {
-  if (const auto axis = namedAxis(up)) return turnOnto(*axis, Eigen::Vector3d::UnitZ());
+  if (const auto axis = upDirection(up)) return turnOnto(*axis, Eigen::Vector3d::UnitZ());
   const Eigen::Matrix3d L = basePose.linear();
   const TriMesh& mesh = *base.mesh;
   const Eigen::Vector3d& com = base.mass.centerOfMass;
@@ -523,7 +545,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   // The base stands on its most stable face (or the way the user chose) with its footprint centred at the
   // origin; the whole assembly turns with it, so every final pose keeps its place relative to the base.
   a.cadUp = options.cadUp.value_or("auto");
-  if (!validUpChoice(a.cadUp)) fail(fileStr, "up", "\"auto\" or a file axis: +x, -x, +y, -y, +z, -z", "\"" + a.cadUp + "\"");
+  if (!validUpChoice(a.cadUp)) fail(fileStr, "up", kUpChoices, "\"" + a.cadUp + "\"");
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   double total = 0.0;
   for (PartId id = 0; id < a.parts.size(); ++id) {
@@ -532,6 +554,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   }
   if (total > 0.0) centre /= total;
   const Eigen::Matrix3d turn = assemblyUp(a.parts[base], filePoses[base], centre, a.cadUp);
+  a.cadTurn = turn;
   a.cadUpAxis = (turn.transpose() * Eigen::Vector3d::UnitZ()).normalized();
   Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();
   shift.linear() = turn;

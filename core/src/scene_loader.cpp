@@ -202,7 +202,7 @@ class SceneReader {
     // A base chosen by the caller (re-basing a saved scene) wins over the one the scene saved.
     if (auto b = cad.opt("base"); b && !options_.cadBase) opts.cadBase = b->string();
     if (auto u = cad.opt("up"); u && !options_.cadUp) {
-      if (!validUpChoice(u->string())) u->fail("\"auto\" or a file axis: \"+x\", \"-x\", \"+y\", \"-y\", \"+z\", \"-z\"");
+      if (!validUpChoice(u->string())) u->fail(kUpChoices);
       opts.cadUp = u->string();
     }
     // The unit assumed for a mesh file, which declares none.

@@ -10,7 +10,9 @@
 //   BM_WholeStep         SimulationController::stepOnce: the world's step, the frame, the viewport and, since
 //                        a paused window refreshes its panels at once, the inspector and timeline too: an
 //                        upper bound of the GUI-side cost of one step
-// Needs a display (Qt3D): xvfb-run -a -s '-screen 0 1280x800x24' build/bin/vaw_bench_gui
+// Needs a display (Qt3D): xvfb-run -a -s '-screen 0 1280x800x24' build/bin/vaw_bench_gui [FILE PART]
+// FILE PART: another scene or CAD file (VAW_PLUGIN_PATH for STEP) and the part to hold, instead of the
+// gearbox's gear (the thousand-part product: vaw_write_step_fixture tiled-9x6 t.stp, then t.stp nut-1).
 #include <benchmark/benchmark.h>
 
 #include <QApplication>
@@ -131,13 +133,19 @@ int main(int argc, char** argv) {
   window.show();
   g_window = &window;
   QSignalSpy loaded(&controller, &vaw::ui::AssemblyController::assemblyLoaded);
-  controller.open(QStringLiteral(VAW_BUILD_RESOURCE_DIR "/scenes/large-gearbox.vaw.json"));
-  if (!loaded.wait(120000)) {
-    std::fprintf(stderr, "bench_gui: the gearbox did not load\n");
+  const bool other = argc == 3;
+  controller.open(other ? QString::fromLocal8Bit(argv[1]) : QStringLiteral(VAW_BUILD_RESOURCE_DIR "/scenes/large-gearbox.vaw.json"));
+  if (!loaded.wait(300000)) {
+    std::fprintf(stderr, "bench_gui: the file did not load\n");
     return 1;
   }
   vaw::ui::SimulationController& sim = window.simulation();
-  g_gear = *controller.assembly()->findPart("gear-a1");
+  const auto held = controller.assembly()->findPart(other ? argv[2] : "gear-a1");
+  if (!held) {
+    std::fprintf(stderr, "bench_gui: no part %s\n", other ? argv[2] : "gear-a1");
+    return 1;
+  }
+  g_gear = *held;
   window.viewport()->selectPart(g_gear);
   // The right hand closes on the gear and lifts it 0.1 m.
   const Eigen::Vector3d at = sim.world().part(g_gear).pose * controller.assembly()->parts[g_gear].mass.centerOfMass;
@@ -148,7 +156,7 @@ int main(int argc, char** argv) {
     sim.stepOnce();
   }
   if (sim.world().part(g_gear).state != vaw::interact::PartState::InHand) {
-    std::fprintf(stderr, "bench_gui: the gear is not held\n");
+    std::fprintf(stderr, "bench_gui: the part is not held\n");
     return 1;
   }
   benchmark::RunSpecifiedBenchmarks();

@@ -26,7 +26,10 @@
 #include <QWheelEvent>
 #include <cmath>
 #include <memory>
+#include <numbers>
+#include <vector>
 
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
@@ -208,6 +211,57 @@ void shot(QMainWindow* window, QWidget* widget, const QString& name) {
   QTest::qWait(150);
   const QPixmap p = widget == window ? window->screen()->grabWindow(window->winId()) : widget->grab();
   QVERIFY(p.save(shotPath(name)));
+}
+
+QPoint aimAtFace(ui::Viewport& viewport, const Part& p, PartId part, std::size_t face) {
+  const auto pose = viewport.partPose(part);
+  if (!pose || !p.cad) return {-1, -1};
+  const CadSolid& s = *p.cad;
+  const CadFace& f = s.faces[face];
+  std::vector<Eigen::Vector3d> centroids;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount; ++t) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) c += s.mesh.vertices[static_cast<std::size_t>(s.mesh.triangles[t][k])] / 3.0;
+    centroids.push_back(c);
+    centre += *pose * c;
+  }
+  if (centroids.empty()) return {-1, -1};
+  centre /= static_cast<double>(centroids.size());
+  Eigen::AlignedBox3d bounds;
+  for (const auto& v : s.mesh.vertices) bounds.extend(v);
+  const double tolerance = 0.01 * bounds.diagonal().norm();
+  const double distance = std::max(0.15, 6.0 * bounds.diagonal().norm());
+  Eigen::Vector3d axis = (pose->linear() * f.direction).normalized();
+  if (axis.z() < 0.0) axis = -axis;
+  const Eigen::Vector3d side =
+      std::abs(axis.z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(axis.cross(Eigen::Vector3d::UnitZ()).normalized());
+  std::vector<Eigen::Vector3d> directions;
+  if (f.surface == CadFace::Surface::Cylinder && f.convex) {
+    for (double turn : {0.0, 1.0, 2.0, 3.0})
+      directions.push_back(Eigen::AngleAxisd(turn * std::numbers::pi / 2.0, axis) * side + 0.4 * Eigen::Vector3d::UnitZ());
+  } else if (f.surface == CadFace::Surface::Cylinder) {
+    // Into the bore along its axis, tilted so that the far wall shows.
+    for (double turn : {0.0, 1.0, 2.0, 3.0})
+      directions.push_back(axis + 0.35 * (Eigen::AngleAxisd(turn * std::numbers::pi / 2.0, axis) * side));
+  } else {
+    const Eigen::Vector3d n = pose->linear() * f.direction;
+    directions = {n + 0.3 * side, n - 0.3 * side, n + 0.3 * Eigen::Vector3d::UnitZ()};
+  }
+  for (const Eigen::Vector3d& d : directions) {
+    viewport.lookAt(centre + distance * d.normalized(), centre);
+    if (capture(&viewport).isNull()) return {-1, -1};
+    const QSize size = viewport.view3d()->size();
+    for (const Eigen::Vector3d& c : centroids) {
+      const Eigen::Vector3d world = *pose * c;
+      const QPoint at = viewport.projectToWindow(world).toPoint();
+      if (at.x() < 2 || at.y() < 2 || at.x() > size.width() - 3 || at.y() > size.height() - 3) continue;
+      const auto hit = viewport.pick(at);
+      if (!hit || hit->part != part) continue;
+      if (faceAt(s, pose->inverse() * hit->point, tolerance) == face) return at;
+    }
+  }
+  return {-1, -1};
 }
 
 Eigen::Vector3d topFaceCentre(const TriMesh& m, const Eigen::Isometry3d& pose) {

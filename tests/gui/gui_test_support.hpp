@@ -85,6 +85,9 @@ void pressAndDrag(QWindow* window, const QPoint& from, const QPoint& to, int ste
                   Qt::KeyboardModifiers modifiers = {});
 // The centre of the largest of the part's highest upward-facing triangles at `pose`, in the world: a point
 // on its top, where a person takes a nut (the middle of its bounds is the hole).
+// A point of the 3D window where a click meets CAD face `face` of `part` (whose Part is `p`), the view
+// turned round it until the face shows (the camera is left there); (-1, -1) when no view shows it.
+QPoint aimAtFace(ui::Viewport& viewport, const Part& p, PartId part, std::size_t face);
 Eigen::Vector3d topFaceCentre(const TriMesh& mesh, const Eigen::Isometry3d& pose);
 // As a person carries a part: a steep view from above that holds the part and its target, a press on the
 // part's top face and a drag past the drag distance, the wheel for depth and the pointer for the rest,

@@ -26,11 +26,9 @@
 #include <QtTest>
 #include <functional>
 #include <memory>
-#include <numbers>
 #include <optional>
 
 #include "gui_test_support.hpp"
-#include "vaw/constraint_recognition.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
@@ -114,7 +112,6 @@ class TestConstraints : public QObject {
   [[nodiscard]] int countStatus(const QString& status) const;
   [[nodiscard]] int rowNamed(const std::string& name) const;
   [[nodiscard]] std::optional<std::size_t> cylinderFace(PartId part, bool convex) const;
-  QPoint aimAt(PartId part, std::size_t face);
   void clickFace(PartId part, std::size_t face);
   void shot(QWidget* widget, const QString& name) { vaw::guitest::shot(window_.get(), widget, name); }
 
@@ -404,59 +401,8 @@ std::optional<std::size_t> TestConstraints::cylinderFace(PartId part, bool conve
 // upward face, from the side for a shaft), and returns a window point where the viewport's pick meets
 // that very face (the point under a triangle's centroid, if nothing is in front). (-1, -1) if no view
 // shows it.
-QPoint TestConstraints::aimAt(PartId part, std::size_t face) {
-  const auto pose = viewport()->partPose(part);
-  if (!pose) return {-1, -1};
-  const vaw::CadSolid& s = *assembly().parts[part].cad;
-  const vaw::CadFace& f = s.faces[face];
-  std::vector<Eigen::Vector3d> centroids;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount; ++t) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) c += s.mesh.vertices[static_cast<std::size_t>(s.mesh.triangles[t][k])] / 3.0;
-    centroids.push_back(c);
-    centre += *pose * c;
-  }
-  if (centroids.empty()) return {-1, -1};
-  centre /= static_cast<double>(centroids.size());
-  Eigen::AlignedBox3d bounds;
-  for (const auto& v : s.mesh.vertices) bounds.extend(v);
-  const double tolerance = 0.01 * bounds.diagonal().norm();
-  const double distance = std::max(0.15, 6.0 * bounds.diagonal().norm());
-  Eigen::Vector3d axis = (pose->linear() * f.direction).normalized();
-  if (axis.z() < 0.0) axis = -axis;
-  const Eigen::Vector3d side =
-      std::abs(axis.z()) > 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d(axis.cross(Eigen::Vector3d::UnitZ()).normalized());
-  std::vector<Eigen::Vector3d> directions;
-  if (f.surface == vaw::CadFace::Surface::Cylinder && f.convex) {
-    for (double turn : {0.0, 1.0, 2.0, 3.0})
-      directions.push_back(Eigen::AngleAxisd(turn * std::numbers::pi / 2.0, axis) * side + 0.4 * Eigen::Vector3d::UnitZ());
-  } else if (f.surface == vaw::CadFace::Surface::Cylinder) {
-    // Into the bore along its axis, tilted so that the far wall shows.
-    for (double turn : {0.0, 1.0, 2.0, 3.0})
-      directions.push_back(axis + 0.35 * (Eigen::AngleAxisd(turn * std::numbers::pi / 2.0, axis) * side));
-  } else {
-    const Eigen::Vector3d n = pose->linear() * f.direction;
-    directions = {n + 0.3 * side, n - 0.3 * side, n + 0.3 * Eigen::Vector3d::UnitZ()};
-  }
-  for (const Eigen::Vector3d& d : directions) {
-    viewport()->lookAt(centre + distance * d.normalized(), centre);
-    if (vaw::guitest::capture(viewport()).isNull()) return {-1, -1};
-    const QSize size = viewport()->view3d()->size();
-    for (const Eigen::Vector3d& c : centroids) {
-      const Eigen::Vector3d world = *pose * c;
-      const QPoint at = viewport()->projectToWindow(world).toPoint();
-      if (at.x() < 2 || at.y() < 2 || at.x() > size.width() - 3 || at.y() > size.height() - 3) continue;
-      const auto hit = viewport()->pick(at);
-      if (!hit || hit->part != part) continue;
-      if (vaw::faceAt(s, pose->inverse() * hit->point, tolerance) == face) return at;
-    }
-  }
-  return {-1, -1};
-}
-
 void TestConstraints::clickFace(PartId part, std::size_t face) {
-  const QPoint at = aimAt(part, face);
+  const QPoint at = vaw::guitest::aimAtFace(*viewport(), assembly().parts[part], part, face);
   QVERIFY2(at.x() >= 0,
            qPrintable(
                QStringLiteral("no view shows face %1 of %2").arg(face).arg(QString::fromStdString(assembly().parts[part].name))));

@@ -295,6 +295,47 @@ void TestStep::aYUpFileStandsOnItsPlateAndTheUserCanChooseAnotherUp() {
   QVERIFY(loaded.wait(60000));
   QCOMPARE(assembly().cadUp, std::string("+z"));
   QVERIFY2(std::abs(plateHeight() - 0.100) < 1e-6, "the plate stands on its long side, as the file has it");
+
+  // Standing so, a right click on the plate's broad face in the view: Put This Face Down lays it on that
+  // face, the bracket side up or down as the face chosen says.
+  const PartId plate = *assembly().base;
+  const vaw::CadSolid& solid = *assembly().parts[plate].cad;
+  std::optional<std::size_t> broad;
+  for (std::size_t f = 0; f < solid.faces.size(); ++f)
+    if (solid.faces[f].surface == vaw::CadFace::Surface::Plane && (!broad || solid.faces[f].area > solid.faces[*broad].area)) broad = f;
+  QVERIFY(broad.has_value());
+  QVERIFY2(std::abs((assembly().parts[plate].pose.linear() * solid.faces[*broad].direction).z()) < 1e-9, "the broad face stands upright");
+  const QPoint at = vaw::guitest::aimAtFace(*window_->viewport(), assembly().parts[plate], plate, *broad);
+  QVERIFY2(at.x() >= 0, "a view shows the broad face");
+  QTest::mouseClick(window_->viewport()->view3d(), Qt::RightButton, {}, at);
+  QMenu* viewMenu = nullptr;
+  QTRY_VERIFY_WITH_TIMEOUT((viewMenu = window_->findChild<QMenu*>(QStringLiteral("viewportMenu"))) != nullptr && viewMenu->isVisible(), 5000);
+  QAction* faceDown = viewMenu->findChild<QAction*>(QStringLiteral("faceDownAction"));
+  QVERIFY(faceDown != nullptr);
+  QVERIFY2(faceDown->isEnabled(), qPrintable(faceDown->toolTip()));
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-face-down-menu.png"));
+  const Eigen::Vector3d broadNormal = solid.faces[*broad].direction;
+  QTest::mouseClick(viewMenu, Qt::LeftButton, {}, viewMenu->actionGeometry(faceDown).center());
+  QVERIFY(loaded.wait(60000));
+  QVERIFY2(assembly().cadUp == "+y" || assembly().cadUp == "-y", assembly().cadUp.c_str());
+  QVERIFY2(std::abs(plateHeight() - 0.010) < 1e-6, "the plate lies on the face chosen");
+  QVERIFY2((assembly().parts[*assembly().base].pose.linear() * broadNormal - Eigen::Vector3d(0, 0, -1)).norm() < 1e-9, "that face down");
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("step-face-down.png"));
+
+  // A face of another part is not the base's: the action says why it cannot.
+  const PartId rod = part("ROD");
+  const vaw::CadSolid& rodSolid = *assembly().parts[rod].cad;
+  std::size_t rodSide = 0;
+  for (std::size_t f = 0; f < rodSolid.faces.size(); ++f)
+    if (rodSolid.faces[f].area > rodSolid.faces[rodSide].area) rodSide = f;
+  const QPoint onRod = vaw::guitest::aimAtFace(*window_->viewport(), assembly().parts[rod], rod, rodSide);
+  QVERIFY2(onRod.x() >= 0, "a view shows the rod's side");
+  QTest::mouseClick(window_->viewport()->view3d(), Qt::RightButton, {}, onRod);
+  QTRY_VERIFY_WITH_TIMEOUT((viewMenu = window_->findChild<QMenu*>(QStringLiteral("viewportMenu"))) != nullptr && viewMenu->isVisible(), 5000);
+  faceDown = viewMenu->findChild<QAction*>(QStringLiteral("faceDownAction"));
+  QVERIFY(faceDown != nullptr && !faceDown->isEnabled());
+  QVERIFY2(faceDown->toolTip().contains(QStringLiteral("PLATE")), qPrintable(faceDown->toolTip()));
+  viewMenu->close();
   QFile::remove(file);
 }
 

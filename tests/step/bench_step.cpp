@@ -16,6 +16,7 @@
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/report/report.hpp"
+#include "vaw/sim/world.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
 
@@ -133,6 +134,38 @@ void BM_Report(benchmark::State& state) {
   fs::remove_all(dir);
 }
 
+// The world's step on a loaded product (docs/benchmarks.md, "A product's size"): every part at rest where
+// the layout put it (arg 1 = 0), or the first nut held and carried round a 5 cm circle (arg 1 = 1).
+void BM_WorldStep(benchmark::State& state) {
+  const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
+  vaw::sim::World w(a, vaw::sim::settingsFor(a));
+  vaw::sim::Input in;
+  const bool carry = state.range(1) == 1;
+  const auto nut = a.findPart("nut-1");
+  if (carry && !nut) throw std::runtime_error("no nut-1 to carry");
+  const Eigen::Isometry3d start = carry ? w.part(*nut).pose : Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d from = start.translation();
+  const Eigen::Matrix3d turn = start.linear();
+  const auto hand = [&](double phase) {
+    Eigen::Isometry3d h = Eigen::Isometry3d::Identity();
+    h.linear() = turn;
+    h.translation() = from + Eigen::Vector3d(0.05 * (std::cos(phase) - 1.0), 0.05 * std::sin(phase), 0.1 * std::min(1.0, phase));
+    return h;
+  };
+  if (carry) {
+    in.left = {hand(0.0), true, *nut, std::nullopt};
+    w.step(in);
+    if (w.part(*nut).state != vaw::interact::PartState::InHand) throw std::runtime_error("the nut was not grabbed");
+  }
+  long k = 0;
+  for (auto _ : state) {
+    if (carry) in.left.pose = hand(0.01 * static_cast<double>(++k));
+    w.step(in);
+  }
+  state.counters["parts"] = static_cast<double>(a.parts.size());
+  state.counters["active"] = static_cast<double>(w.activeParts());
+}
+
 // Who goes first from the geometry (docs/step.md, "Who goes first"): part of every load, measured alone.
 void BM_GeometricPrecedence(benchmark::State& state) {
   const vaw::Assembly a = vaw::loadAny(fileFor(static_cast<int>(state.range(0))), registry());
@@ -176,5 +209,6 @@ BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMilliseco
 BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Report)->Arg(0)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_WorldStep)->Args({0, 0})->Args({0, 1})->Args({6, 0})->Args({6, 1})->Unit(benchmark::kMicrosecond)->UseRealTime();
 BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

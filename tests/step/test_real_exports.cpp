@@ -15,6 +15,7 @@
 #include "assembler.hpp"
 #include "files.hpp"
 #include "step_fixtures.hpp"
+#include "vaw/cad_assembly.hpp"
 #include "vaw/cad_faces.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/evaluation/sequence.hpp"
@@ -355,6 +356,53 @@ TEST(RealExportUp, TheFilesAxisCanBeChosen) {
   } catch (const vaw::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("+y"), std::string::npos) << e.what();
   }
+}
+
+// "This face down": any face of the base, as an up choice the scene keeps; a face square to a file axis
+// names the axis, any other the direction's three numbers.
+TEST(RealExportUp, AFaceOfTheBaseCanBePutDown) {
+  const fs::path file = vaw::test::tempDir() / "bolted-rod-facedown.stp";
+  vaw::steptest::writeBoltedRod(file, {1, false, true, true, false, "AP214"});
+  vaw::LoadOptions options;
+  options.cadUp = "+z";
+  const Assembly standing = vaw::loadAny(file, vaw::test::importers(), options);
+  const PartId base = *standing.base;
+  // The plate's face that faces the table while it stands (+z up) is one of its narrow sides; its broad
+  // faces stand upright. Put the broad face that points along world +y down.
+  const vaw::CadSolid& plate = *standing.parts[base].cad;
+  std::optional<Eigen::Vector3d> broad;
+  double area = 0.0;
+  for (const auto& f : plate.faces) {
+    const Eigen::Vector3d n = standing.parts[base].pose.linear() * f.direction;
+    if (f.surface == vaw::CadFace::Surface::Plane && n.y() > 0.99 && f.area > area) {
+      broad = f.direction;
+      area = f.area;
+    }
+  }
+  ASSERT_TRUE(broad.has_value());
+  const auto up = vaw::upForFaceDown(standing, *broad);
+  ASSERT_TRUE(up.has_value());
+  EXPECT_TRUE(*up == "+y" || *up == "-y") << *up;
+  options.cadUp = *up;
+  const Assembly flat = vaw::loadAny(file, vaw::test::importers(), options);
+  EXPECT_NEAR((flat.parts[*flat.base].pose.linear() * *broad - Eigen::Vector3d(0, 0, -1)).norm(), 0.0, 1e-9) << "that face down";
+
+  // A direction square to no axis: three numbers, read back to the same turn.
+  const Eigen::Vector3d slanted = Eigen::Vector3d(1, 2, 2).normalized();
+  const auto slantedUp = vaw::upForFaceDown(standing, slanted);
+  ASSERT_TRUE(slantedUp.has_value());
+  EXPECT_EQ(slantedUp->find_first_of("+xyz"), std::string::npos) << *slantedUp;
+  options.cadUp = *slantedUp;
+  const Assembly tilted = vaw::loadAny(file, vaw::test::importers(), options);
+  EXPECT_EQ(tilted.cadUp, *slantedUp);
+  EXPECT_NEAR((tilted.parts[*tilted.base].pose.linear() * slanted - Eigen::Vector3d(0, 0, -1)).norm(), 0.0, 1e-7);
+  EXPECT_NEAR((*vaw::upDirection(*slantedUp) - tilted.cadUpAxis).norm(), 0.0, 1e-12);
+
+  for (const char* bad : {"0 0 0", "1 2", "nan 0 1", "1 0 0 1", "+q"}) EXPECT_FALSE(vaw::validUpChoice(bad)) << bad;
+  EXPECT_NEAR((*vaw::upDirection("0 0 -2") - Eigen::Vector3d(0, 0, -1)).norm(), 0.0, 1e-15);
+  Assembly scene = standing;
+  scene.cadFile.clear();
+  EXPECT_FALSE(vaw::upForFaceDown(scene, *broad).has_value()) << "only a CAD assembly stands another way";
 }
 
 }  // namespace

@@ -643,6 +643,18 @@ QMenu* ConstraintsDock::baseMenu(vaw::PartId part, QWidget* parent) {
         if (choice != current) emit upRequested(choice);
       });
     }
+    // A face put down in the viewport that is square to no file axis: its direction, ticked.
+    if (std::none_of(std::begin(choices), std::end(choices), [&](const auto& c) { return a->cadUp == c.first; })) {
+      const Eigen::Vector3d d = a->cadUpAxis;
+      QAction* act = up->addAction(tr("A face put down in the view: the file's (%1, %2, %3) up")
+                                       .arg(d.x(), 0, 'f', 3)
+                                       .arg(d.y(), 0, 'f', 3)
+                                       .arg(d.z(), 0, 'f', 3));
+      act->setObjectName(QStringLiteral("upface"));
+      act->setCheckable(true);
+      act->setChecked(true);
+      act->setActionGroup(group);
+    }
   }
   return menu;
 }

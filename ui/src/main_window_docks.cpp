@@ -6,11 +6,14 @@
 #include <QFileDialog>
 #include <QKeySequence>
 #include <QLabel>
+#include <QMenu>
 #include <QSaveFile>
 #include <QStatusBar>
 #include <algorithm>
 #include <utility>
 
+#include "vaw/cad_assembly.hpp"
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
@@ -189,6 +192,48 @@ void MainWindow::wireConstraints() {
   connect(constraintsDock_, &ConstraintsDock::upRequested, this, [this](const QString& up) {
     if (maybeSave()) controller_.openWithUp(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, up.toStdString());
   });
+  connect(viewport_, &Viewport::contextMenuRequested, this, &MainWindow::showViewportMenu);
+}
+
+void MainWindow::showViewportMenu(const QPoint& windowPos) {
+  const vaw::Assembly* a = controller_.assembly();
+  const auto pick = viewport_->pick(windowPos);
+  if (a == nullptr || !pick || pick->part >= a->parts.size()) return;
+  auto* menu = new QMenu(this);
+  menu->setObjectName(QStringLiteral("viewportMenu"));
+  menu->setAttribute(Qt::WA_DeleteOnClose);
+  menu->setToolTipsVisible(true);
+  QAction* down = menu->addAction(tr("Put This Face Down"));
+  down->setObjectName(QStringLiteral("faceDownAction"));
+  // The face under the click, in the part's own frame (where it is drawn now: tilted, or waiting).
+  const vaw::Part& p = a->parts[pick->part];
+  std::optional<std::string> up;
+  QString why;
+  if (a->cadFile.empty()) {
+    why = tr("Only a CAD assembly (STEP) can be turned to stand another way: a scene file places its base itself");
+  } else if (a->base != pick->part) {
+    why = tr("The assembly stands on its base, %1: right-click a face of it").arg(QString::fromStdString(a->parts[*a->base].name));
+  } else if (const auto pose = viewport_->partPose(pick->part); p.cad && pose) {
+    Eigen::AlignedBox3d bounds;
+    for (const auto& v : p.cad->mesh.vertices) bounds.extend(v);
+    const auto face = vaw::faceAt(*p.cad, pose->inverse() * pick->point, 0.01 * bounds.diagonal().norm());
+    if (!face || p.cad->faces[*face].surface != vaw::CadFace::Surface::Plane)
+      why = tr("Only a flat face can rest on the table: right-click a flat face of %1").arg(QString::fromStdString(p.name));
+    else
+      up = vaw::upForFaceDown(*a, p.cad->faces[*face].direction);
+  }
+  if (up) {
+    why = tr("Reopen the assembly standing on this face; the constraints keep their parts");
+    const std::string choice = *up;
+    connect(down, &QAction::triggered, this, [this, choice] {
+      if (maybeSave()) controller_.openWithUp(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, choice);
+    });
+  } else {
+    down->setEnabled(false);
+  }
+  down->setToolTip(why);
+  down->setStatusTip(why);
+  menu->popup(viewport_->windowToGlobal(windowPos));
 }
 
 void MainWindow::wireSequence() {

@@ -520,6 +520,8 @@ std::optional<Viewport::Pick> Viewport::pick(const QPoint& windowPos) const {
   return std::nullopt;
 }
 
+QPoint Viewport::windowToGlobal(const QPoint& windowPos) const { return view_->mapToGlobal(windowPos); }
+
 std::optional<vaw::PartId> Viewport::partAt(const QPoint& windowPos) const {
   const auto p = pick(windowPos);
   return p ? std::optional(p->part) : std::nullopt;
@@ -633,6 +635,10 @@ bool Viewport::eventFilter(QObject* watched, QEvent* event) {
     }
     case QEvent::MouseButtonRelease: {
       const auto* mouse = static_cast<QMouseEvent*>(event);
+      // A right drag turns the view; a right click asks for the menu of what is under it.
+      if (mouse->button() == Qt::RightButton && !grabbing_ &&
+          (mouse->position().toPoint() - pressPos_).manhattanLength() < QApplication::startDragDistance())
+        emit contextMenuRequested(mouse->position().toPoint());
       if (mouse->button() != Qt::LeftButton) break;
       cameraController_->setSuspended(false);
       if (grabbing_) {

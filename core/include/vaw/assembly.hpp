@@ -147,6 +147,7 @@ struct Assembly {
   // axis such as "+y") and the file's direction that points up as a result.
   std::string cadUp = "auto";
   Eigen::Vector3d cadUpAxis = Eigen::Vector3d::UnitZ();
+  Eigen::Matrix3d cadTurn = Eigen::Matrix3d::Identity();  // the file's directions -> the table's, as loaded
   LengthUnit units = LengthUnit::Metre;
   std::map<std::string, Material> materials;
   std::vector<Part> parts;

@@ -46,11 +46,20 @@ Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& c
 // stable one under which its centre of mass lies lowest; of two equally low, the one facing away from
 // `assemblyCentre`, the assembly's centre of mass in the file, so the rest stands on the base), unless the
 // file's own orientation is as good; a file axis ("+x", "-x", "+y", "-y", "+z", "-z"): that axis of the
-// file points up. `basePose` is the base's pose in the file.
+// file points up; three numbers ("0 0.6 0.8"): that direction of the file points up (a face put down
+// in the viewport, upForFaceDown). `basePose` is the base's pose in the file.
 Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,
                            const std::string& up);
-// True for "auto" and the six file axes.
+// True for "auto", the six file axes and a direction of three finite numbers, not all zero.
 bool validUpChoice(const std::string& up);
+// The file direction an up choice names (unit); none for "auto" and anything invalid.
+std::optional<Eigen::Vector3d> upDirection(const std::string& up);
+// What validUpChoice accepts, for error messages.
+inline constexpr const char* kUpChoices = "\"auto\", a file axis (+x, -x, +y, -y, +z, -z) or a file direction as three numbers";
+// "This face down": the up choice that makes a face of the loaded CAD assembly's base, with outward
+// `normal` in the base's own frame, rest on the table (a file axis when the face is square to one, else
+// the direction's three numbers). None for an assembly not read from a CAD file.
+std::optional<std::string> upForFaceDown(const Assembly& assembly, const Eigen::Vector3d& normal);
 
 // Poses for the parts other than `base` (whose pose is kept) side by side on the table top (z = tableTop)
 // in rows beside the base, none overlapping, `gap` apart. `orientations` are the resting orientations.

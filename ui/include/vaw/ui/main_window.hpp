@@ -138,6 +138,8 @@ class MainWindow : public QMainWindow {
   // trial's scale to themselves, and the panels that show the fall's speed or duration close until it ends.
   void setBlinded(bool blinded);
   void wireConstraints();
+  // The viewport's right-click menu: "Put this face down" on a flat face of a CAD assembly's base.
+  void showViewportMenu(const QPoint& windowPos);
   void wireSequence();
   // Writes the report with the order found; says where, or why not.
   void writeReport(const QString& dir);

@@ -67,6 +67,8 @@ class Viewport : public QWidget {
   };
   [[nodiscard]] std::optional<Pick> pick(const QPoint& windowPos) const;
   [[nodiscard]] std::optional<vaw::PartId> partAt(const QPoint& windowPos) const;
+  // A point of the 3D window on the screen (for a menu at the pointer).
+  [[nodiscard]] QPoint windowToGlobal(const QPoint& windowPos) const;
   // Where a world point (metres) appears in the 3D window (window coordinates).
   [[nodiscard]] QPointF projectToWindow(const Eigen::Vector3d& world) const;
   // The world ray through a window point: origin (on the near plane) and unit direction.
@@ -164,6 +166,8 @@ class Viewport : public QWidget {
   // A click on `part` while picking faces, and where it met the part (world, m).
   void facePicked(vaw::PartId part, const Eigen::Vector3d& at);
   void facePickCancelled();
+  // A right click (no drag) at a point of the 3D window: the window offers what can be done there.
+  void contextMenuRequested(const QPoint& windowPos);
 
  protected:
   bool eventFilter(QObject* watched, QEvent* event) override;
