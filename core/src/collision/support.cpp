@@ -206,7 +206,7 @@ std::vector<ConstraintFit> constraintFits(const Assembly& a, const Tolerances& t
   return out;
 }
 
-Support CollisionWorld::support(const Constraint& c) const {
+Support CollisionWorld::support(const Constraint& c, bool prepared) const {
   if (!base()) {
     Support s;
     s.part = c.part;
@@ -216,7 +216,7 @@ Support CollisionWorld::support(const Constraint& c) const {
   // A constraint to another part rests the part on that part's surfaces, wherever the partner is.
   const PartId partner = c.partner.value_or(*base());
   Support s = matchSupport(c, partner, patches(ObjectId::part(c.part)), patches(ObjectId::part(partner)), tolerances());
-  prepare(s);
+  if (prepared) prepare(s);
   return s;
 }
 

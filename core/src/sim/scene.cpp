@@ -109,11 +109,18 @@ std::shared_ptr<const Scene> Scene::build(Assembly assembly, const ProgressFn& p
   for (std::size_t c = 0; c < constraints.size(); ++c) {
     if (progress && !progress(static_cast<double>(c) / static_cast<double>(constraints.size()), "constraint supports"))
       throw LoadCancelled();
-    scene->supports_.push_back(scene->collision_.support(constraints[c]));
+    scene->supports_.push_back(scene->collision_.support(constraints[c], false));
   }
+  scene->prepared_ = std::make_unique<std::once_flag[]>(constraints.size());
   scene->hash_ = hashOf(scene->assembly_);
   if (progress) progress(1.0, "scene ready");
   return scene;
+}
+
+const collision::Support& Scene::support(std::size_t c) const {
+  collision::Support& s = supports_.at(c);
+  std::call_once(prepared_[c], [&] { collision_.prepare(s); });
+  return s;
 }
 
 const collision::ObjectInfo* Scene::collisionInfo(collision::ObjectId id) const {

@@ -265,8 +265,12 @@ class CollisionWorld {
   [[nodiscard]] double coaxialOverlapAlong(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b,
                                            const Eigen::Vector3d& direction) const;
 
-  // The support of a part on the base from a mate or insert constraint (patches matched once).
-  [[nodiscard]] Support support(const Constraint& constraint) const;
+  // The support of a part on the base from a mate or insert constraint (patches matched once), prepared
+  // for blocked() and freeMotion() unless `prepared` is false.
+  [[nodiscard]] Support support(const Constraint& constraint, bool prepared = true) const;
+  // What blocked() and freeMotion() use, found once per support from the whole of its base's mesh (a plate
+  // with hundreds of holes takes milliseconds): for a caller that prepares a support when it is first used.
+  void prepare(Support& s) const;
   // Does the part still rest on (plane) or surround / sit in (axis) the constraint surface?
   [[nodiscard]] TouchResult touching(const Support& s) const;
   [[nodiscard]] TouchResult touching(const Support& s, const Eigen::Isometry3d& partPose) const;
@@ -299,7 +303,6 @@ class CollisionWorld {
 
  private:
   CollisionWorld();
-  void prepare(Support& s) const;
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -9,6 +9,7 @@
 // second world costs almost nothing.
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -38,8 +39,10 @@ class Scene {
   [[nodiscard]] const collision::CollisionWorld& collision() const { return collision_; }
   [[nodiscard]] const std::vector<collision::ObjectInfo>& collisionInfo() const { return collisionInfo_; }
   [[nodiscard]] const collision::ObjectInfo* collisionInfo(collision::ObjectId id) const;
-  // How the part of constraint `c` rests on the base (index into Assembly::constraints).
-  [[nodiscard]] const collision::Support& support(std::size_t c) const { return supports_.at(c); }
+  // How the part of constraint `c` rests on the base (index into Assembly::constraints). Prepared when
+  // first asked for (by any thread): a product of a thousand parts has thousands of supports, most never
+  // used in a session, each a pass over its base's mesh.
+  [[nodiscard]] const collision::Support& support(std::size_t c) const;
   // FNV-1a over what the simulation reads from the assembly (geometry, poses, mass properties,
   // materials, constraints, tools): equal hashes replay equally; a changed mesh or file changes it.
   [[nodiscard]] std::uint64_t contentHash() const { return hash_; }
@@ -49,7 +52,8 @@ class Scene {
   Assembly assembly_;
   collision::CollisionWorld collision_;
   std::vector<collision::ObjectInfo> collisionInfo_;
-  std::vector<collision::Support> supports_;
+  mutable std::vector<collision::Support> supports_;
+  std::unique_ptr<std::once_flag[]> prepared_;
   std::uint64_t hash_ = 0;
 };
 
