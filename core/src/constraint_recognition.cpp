@@ -1,6 +1,7 @@
 #include "vaw/constraint_recognition.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -48,20 +49,24 @@ struct Tri2 {
   Eigen::AlignedBox2d box;
 };
 
-// A planar face's triangles in the 2-D frame (origin, e1, e2) of the common plane.
+// A planar face's triangles in the 2-D frame (origin, e1, e2) of the common plane; with `within`, only
+// those whose box meets it (a 2 m plate's face has thousands of triangles, the washer on it a few dozen).
 std::vector<Tri2> faceTriangles(const CadSolid& s, const CadFace& f, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
-                                const Eigen::Vector3d& e1, const Eigen::Vector3d& e2) {
+                                const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, const Eigen::AlignedBox2d* within = nullptr) {
   std::vector<Tri2> out;
-  out.reserve(f.triangleCount);
+  if (!within) out.reserve(f.triangleCount);
   for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < s.mesh.triangles.size(); ++t) {
-    Tri2 tri;
+    std::array<P, 3> corners;
+    Eigen::AlignedBox2d box;
     for (int k = 0; k < 3; ++k) {
       const auto vi = static_cast<std::size_t>(s.mesh.triangles[t][k]);
       if (vi >= s.mesh.vertices.size()) return {};
       const Eigen::Vector3d w = pose * s.mesh.vertices[vi] - origin;
-      tri.corners.emplace_back(w.dot(e1), w.dot(e2));
-      tri.box.extend(tri.corners.back());
+      corners[static_cast<std::size_t>(k)] = P(w.dot(e1), w.dot(e2));
+      box.extend(corners[static_cast<std::size_t>(k)]);
     }
+    if (within && !box.intersects(*within)) continue;
+    Tri2 tri{std::vector<P>(corners.begin(), corners.end()), box};
     if (g2::area(tri.corners) < 0.0) std::reverse(tri.corners.begin(), tri.corners.end());
     out.push_back(std::move(tri));
   }
@@ -317,11 +322,18 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
   const Eigen::Vector3d n = (poseA.linear() * fa.direction).normalized();
   const Eigen::Vector3d e1 = anyPerpendicular(n), e2 = n.cross(e1);
   const Eigen::Vector3d origin = poseA * fa.point;
-  const std::vector<Tri2> ta = faceTriangles(a, fa, poseA, origin, e1, e2);
-  const std::vector<Tri2> tb = faceTriangles(b, fb, poseB, origin, e1, e2);
+  // The face with fewer triangles first; of the other only what meets its box, which leaves the area as it
+  // is (a triangle outside that box meets none of the first face's).
+  const bool aFirst = fa.triangleCount <= fb.triangleCount;
+  const std::vector<Tri2> few = aFirst ? faceTriangles(a, fa, poseA, origin, e1, e2) : faceTriangles(b, fb, poseB, origin, e1, e2);
+  Eigen::AlignedBox2d reach;
+  for (const Tri2& t : few) reach.extend(t.box);
+  if (reach.isEmpty()) return 0.0;
+  const std::vector<Tri2> near =
+      aFirst ? faceTriangles(b, fb, poseB, origin, e1, e2, &reach) : faceTriangles(a, fa, poseA, origin, e1, e2, &reach);
   double total = 0.0;
-  for (const Tri2& x : ta)
-    for (const Tri2& y : tb) {
+  for (const Tri2& x : few)
+    for (const Tri2& y : near) {
       if (!x.box.intersects(y.box)) continue;
       const std::vector<P> common = clipConvex(x.corners, y.corners);
       if (common.size() >= 3) total += std::abs(g2::area(common));
@@ -329,31 +341,47 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
   return total;
 }
 
-std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol) {
+std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol,
+                                                  const PairProgress& progress) {
   std::vector<FoundConstraint> out;
-  std::vector<Eigen::AlignedBox3d> boxes;
-  for (const auto& p : parts) boxes.push_back(worldBox(p));
   const double margin = tol.distance + tol.maxClearance;
-  for (std::size_t i = 0; i < parts.size(); ++i) {
-    for (std::size_t j = i + 1; j < parts.size(); ++j) {
-      const RecognitionPart& A = parts[i];
-      const RecognitionPart& B = parts[j];
-      if (boxes[i].isEmpty() || boxes[j].isEmpty()) continue;
-      Eigen::AlignedBox3d grown = boxes[i];
-      grown.min().array() -= margin;
-      grown.max().array() += margin;
-      if (!grown.intersects(boxes[j])) continue;
-
-      FoundConstraint f;
-      const auto cylA = worldFaces(A, CadFace::Surface::Cylinder), cylB = worldFaces(B, CadFace::Surface::Cylinder);
-      for (const WorldFace& x : cylA)
-        for (const WorldFace& y : cylB)
-          if (testInsert(x, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
-      const auto plA = worldFaces(A, CadFace::Surface::Plane), plB = worldFaces(B, CadFace::Surface::Plane);
-      for (const WorldFace& x : plA)
-        for (const WorldFace& y : plB)
-          if (testMate(A, x, B, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const auto& p : parts) {
+    Eigen::AlignedBox3d b = worldBox(p);
+    if (!b.isEmpty()) {
+      b.min().array() -= 0.5 * margin;
+      b.max().array() += 0.5 * margin;
     }
+    boxes.push_back(b);
+  }
+  // Candidate pairs from a sweep along x over the grown boxes, then in index order, so the constraints
+  // come out in the order a test of every pair gives.
+  std::vector<std::size_t> byX;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    if (!boxes[i].isEmpty()) byX.push_back(i);
+  std::sort(byX.begin(), byX.end(), [&](std::size_t a, std::size_t b) { return boxes[a].min().x() < boxes[b].min().x(); });
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  for (std::size_t k = 0; k < byX.size(); ++k)
+    for (std::size_t l = k + 1; l < byX.size() && boxes[byX[l]].min().x() <= boxes[byX[k]].max().x(); ++l)
+      if (boxes[byX[k]].intersects(boxes[byX[l]])) pairs.emplace_back(std::minmax(byX[k], byX[l]));
+  std::sort(pairs.begin(), pairs.end());
+
+  // Each part's faces in the world once, not once per partner (the base meets every part).
+  std::vector<std::vector<WorldFace>> cylinders(parts.size()), planes(parts.size());
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    cylinders[i] = worldFaces(parts[i], CadFace::Surface::Cylinder);
+    planes[i] = worldFaces(parts[i], CadFace::Surface::Plane);
+  }
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const auto [i, j] = pairs[k];
+    if (progress && !progress(static_cast<double>(k) / static_cast<double>(pairs.size()), i, j)) throw LoadCancelled();
+    FoundConstraint f;
+    for (const WorldFace& x : cylinders[i])
+      for (const WorldFace& y : cylinders[j])
+        if (testInsert(x, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
+    for (const WorldFace& x : planes[i])
+      for (const WorldFace& y : planes[j])
+        if (testMate(parts[i], x, parts[j], y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
   }
   return onePerContact(std::move(out), tol);
 }

@@ -124,6 +124,8 @@ void Reader::measure(Product& p) {
   IMeshTools_Parameters parameters;
   parameters.Deflection = deflection;
   parameters.Angle = angularDeflection_;
+  // The faces of a solid meshed on every core (each face alone, so the result does not depend on it).
+  parameters.InParallel = Standard_True;
   BRepMesh_IncrementalMesh mesher;
   mesher.SetShape(kept);
   mesher.ChangeParameters() = parameters;

@@ -4,6 +4,7 @@
 #include <QFileInfo>
 #include <QMetaObject>
 #include <QtConcurrent/QtConcurrentRun>
+#include <chrono>
 #include <exception>
 #include <mutex>
 #include <string>
@@ -186,18 +187,23 @@ AssemblyController::Outcome AssemblyController::runLoad(const QString& path, con
                                                         const vaw::LoadOptions& options,
                                                         const std::shared_ptr<std::atomic<bool>>& cancel) {
   Outcome out;
+  // The loader asks thousands of times on a large product (each part and pair of parts it works on is
+  // named, "recognising constraints: bolt-3 and plate"): the dialog hears of it at most every 50 ms, and
+  // at once of a new stage (the text before the colon) and of the end.
   struct Throttle {
     std::mutex mutex;
-    double lastFraction = -1.0;
-    std::string lastStage;
+    std::chrono::steady_clock::time_point last{};
+    std::string lastKind;
   };
   auto throttle = std::make_shared<Throttle>();
   const vaw::ProgressFn progressFn = [this, cancel, throttle](double fraction, const std::string& stage) {
     {
       const std::lock_guard lock(throttle->mutex);
-      if (stage != throttle->lastStage || fraction - throttle->lastFraction >= 0.01 || fraction >= 1.0) {
-        throttle->lastFraction = fraction;
-        throttle->lastStage = stage;
+      const auto now = std::chrono::steady_clock::now();
+      const std::string kind = stage.substr(0, stage.find(':'));
+      if (now - throttle->last >= std::chrono::milliseconds(50) || kind != throttle->lastKind || fraction >= 1.0) {
+        throttle->last = now;
+        throttle->lastKind = kind;
         const QString qstage = QString::fromStdString(stage);
         QMetaObject::invokeMethod(
             this, [this, fraction, qstage] { emit progress(fraction, qstage); }, Qt::QueuedConnection);

@@ -66,8 +66,9 @@ struct EnvironmentObject {
   bool implied = false;
 };
 
-struct Plane { Eigen::Vector3d point; Eigen::Vector3d normal; };  // normal unit length
-struct Axis { Eigen::Vector3d point; Eigen::Vector3d direction; }; // direction unit length
+// Initialised, so a constraint's geometry of the other kind (a mate's axes) holds no stray bits.
+struct Plane { Eigen::Vector3d point = Eigen::Vector3d::Zero(); Eigen::Vector3d normal = Eigen::Vector3d::UnitZ(); };  // normal unit length
+struct Axis { Eigen::Vector3d point = Eigen::Vector3d::Zero(); Eigen::Vector3d direction = Eigen::Vector3d::UnitZ(); }; // direction unit length
 
 // An assembly constraint between a part and its partner (the base unless `partner` names another part),
 // geometry in each one's own frame: the "base" members hold the partner's geometry.

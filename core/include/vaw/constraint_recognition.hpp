@@ -43,8 +43,10 @@ struct FoundConstraint {
 
 // Every constraint between every pair of parts, in a deterministic order (by pair, then kind, then face).
 // A pair whose faces only meet at an edge or a point gives none. Parts without a solid are skipped.
+// Candidate pairs come from a sweep over the parts' boxes, not from every pair. `progress` is asked before
+// each candidate pair; false stops with LoadCancelled.
 std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts,
-                                                  const RecognitionTolerances& tol = {});
+                                                  const RecognitionTolerances& tol = {}, const PairProgress& progress = {});
 
 // The face of `s` whose exact surface passes nearest `point` (the solid's frame, m), within `tolerance` (m):
 // a plane by the point's distance to it, a cylinder by its distance to the cylinder within the face's axial

@@ -386,7 +386,26 @@ void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* ca
       break;
     }
   }
-  // End faces (rims) of each cylinder.
+  // End faces (rims) of each cylinder. A face ends a cylinder when every point of it (outline corners and
+  // triangle centroids) lies on the material's side of the radius. A plate's face borders each of its
+  // hundreds of holes, so for a bore only the points that can lie within the radius are looked at: those
+  // whose coordinate along the face's u lies within radius / cos(tilt) of where the axis crosses the face,
+  // from the face's points sorted along u (built once per face, when a bore first asks).
+  const TriMesh& welded = topo.welded;
+  std::vector<std::vector<std::pair<double, Eigen::Vector3d>>> alongU(np);
+  const auto pointsAlongU = [&](std::size_t pi) -> const std::vector<std::pair<double, Eigen::Vector3d>>& {
+    auto& pts = alongU[pi];
+    if (!pts.empty()) return pts;
+    const PlanarPatch& p = out.planes[pi];
+    for (const Outline& loop : p.outline)
+      for (const auto& q : loop) pts.emplace_back(q.x(), p.toMesh(q));
+    for (int t : p.triangles) {
+      const Eigen::Vector3d c = (vertexOf(welded, t, 0) + vertexOf(welded, t, 1) + vertexOf(welded, t, 2)) / 3.0;
+      pts.emplace_back(p.u.dot(c - p.origin), c);
+    }
+    std::sort(pts.begin(), pts.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    return pts;
+  };
   for (std::size_t ci = 0; ci < out.cylinders.size(); ++ci) {
     const CylindricalPatch& c = out.cylinders[ci];
     const double tol = std::max(o.distanceTolerance, 1e-6 * c.radius);
@@ -396,27 +415,27 @@ void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* ca
         if (cylOfPlane[static_cast<std::size_t>(e.other)] < 0) candidates.push_back(e.other);
     std::sort(candidates.begin(), candidates.end());
     candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+    const auto inside = [&](const Eigen::Vector3d& x) {
+      Eigen::Vector3d d = x - c.point;
+      d -= c.direction * c.direction.dot(d);
+      const double r = d.norm();
+      return c.convex ? r <= c.radius + tol : r >= c.radius - tol;
+    };
     for (int pi : candidates) {
-      PlanarPatch& p = out.planes[static_cast<std::size_t>(pi)];
-      if (std::abs(p.normal.dot(c.direction)) < cosTol) continue;
-      bool ok = !p.outline.empty();
-      for (const Outline& loop : p.outline)
-        for (const auto& q : loop) {
-          Eigen::Vector3d d = p.toMesh(q) - c.point;
-          d -= c.direction * c.direction.dot(d);
-          const double r = d.norm();
-          ok = ok && (c.convex ? r <= c.radius + tol : r >= c.radius - tol);
-        }
-      // A disc's outline is its rim circle alone, so a blind bore's bottom would pass as a sleeve's end:
-      // the face itself (its triangles' centroids) must lie on the material's side too.
-      for (int t : p.triangles) {
-        if (!ok) break;
-        const TriMesh& m = topo.welded;
-        Eigen::Vector3d d = (vertexOf(m, t, 0) + vertexOf(m, t, 1) + vertexOf(m, t, 2)) / 3.0 - c.point;
-        d -= c.direction * c.direction.dot(d);
-        ok = c.convex ? d.norm() <= c.radius + tol : d.norm() >= c.radius - tol;
+      const PlanarPatch& p = out.planes[static_cast<std::size_t>(pi)];
+      const double tilt = std::abs(p.normal.dot(c.direction));
+      if (tilt < cosTol || p.outline.empty()) continue;
+      const auto& pts = pointsAlongU(static_cast<std::size_t>(pi));
+      auto from = pts.begin(), to = pts.end();
+      if (!c.convex) {
+        // Where the axis crosses the face, along u; a point farther along u than radius / tilt is
+        // farther than the radius from the axis.
+        const Eigen::Vector3d q = c.point + c.direction * ((p.offset() - p.normal.dot(c.point)) / p.normal.dot(c.direction));
+        const double at = p.u.dot(q - p.origin), reach = c.radius / tilt + tol;
+        from = std::lower_bound(pts.begin(), pts.end(), at - reach, [](const auto& e, double x) { return e.first < x; });
+        to = std::upper_bound(from, pts.end(), at + reach, [](double x, const auto& e) { return x < e.first; });
       }
-      if (ok) p.rimOf.push_back(static_cast<int>(ci));
+      if (std::all_of(from, to, [&](const auto& e) { return inside(e.second); })) out.planes[static_cast<std::size_t>(pi)].rimOf.push_back(static_cast<int>(ci));
     }
   }
 }

@@ -147,7 +147,7 @@ struct Sweep {
 }  // namespace
 
 std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
-                                                           const SequenceOptions& options, int* sweeps) {
+                                                           const SequenceOptions& options, int* sweeps, const PairProgress& progress) {
   std::vector<std::pair<PartId, PartId>> out;
   if (!assembly.base || home.size() != assembly.parts.size()) return out;
   const PartId base = *assembly.base;
@@ -217,10 +217,13 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   // Only where the geometry says otherwise than the partner the constraints already name: the part that
   // needs its partner absent, while the partner does not need it absent, goes first.
   std::set<std::pair<PartId, PartId>> checked;
-  for (const Constraint& c : assembly.constraints) {
+  for (std::size_t k = 0; k < assembly.constraints.size(); ++k) {
+    const Constraint& c = assembly.constraints[k];
     const PartId partner = c.partner.value_or(base);
     if (partner == base || c.part >= n || partner >= n || c.part == partner) continue;
     if (!checked.emplace(std::min(c.part, partner), std::max(c.part, partner)).second) continue;
+    if (progress && !progress(static_cast<double>(k) / static_cast<double>(assembly.constraints.size()), c.part, partner))
+      throw LoadCancelled();
     if (needsAbsent(c.part, partner) && !needsAbsent(partner, c.part)) out.emplace_back(c.part, partner);
   }
   if (sweeps) *sweeps = sweep.runs;

@@ -94,9 +94,11 @@ std::string travelText(const Eigen::Vector3d& out);
 // leaves open are blocked by the other needs the other absent, so it goes first: the bracket before the
 // bolt whose head clamps it. Returns (first, second) for the pairs where the geometry puts first the part
 // the constraints name as the constrained one (so the partner is to be swapped); pairs where neither or
-// each blocks the other keep the partner they have. `sweeps` counts the pair sweeps run.
+// each blocks the other keep the partner they have. `sweeps` counts the pair sweeps run. `progress` is
+// asked before each pair; false stops with LoadCancelled.
 std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
-                                                           const SequenceOptions& options = {}, int* sweeps = nullptr);
+                                                           const SequenceOptions& options = {}, int* sweeps = nullptr,
+                                                           const PairProgress& progress = {});
 
 // Throws vaw::Error when the assembly has no base. `progress` (may be empty) is asked between parts;
 // returning false stops with LoadCancelled.
