@@ -158,6 +158,10 @@ void addReaderLimits(CLI::App* cmd, vaw::ImportOptions& limits) {
   cmd->add_option("--max-instances", limits.maxInstances,
                   "STEP files: part instances a file may declare, its assembly tree expanded (default 10000)")
       ->check(CLI::Range(1.0, 1e9));
+  limits.resultCache = vaw::userCacheDir();
+  cmd->add_flag_callback(
+      "--no-cache", [&limits] { limits.resultCache.clear(); },
+      "STEP files: read the file even when it is unchanged since an earlier read (kept in $XDG_CACHE_HOME/vaw, or $VAW_CACHE_DIR)");
 }
 
 struct InspectArgs {

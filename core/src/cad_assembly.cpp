@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -18,6 +21,7 @@
 #include "vaw/cad_faces.hpp"
 #include "vaw/categories.hpp"
 #include "vaw/hash.hpp"
+#include "vaw/kept_results.hpp"
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/primitives.hpp"
@@ -28,6 +32,97 @@ namespace vaw {
 namespace {
 
 namespace g2 = collision::geom2;
+
+// Who goes first takes seconds of sweeps on a product of a thousand parts (docs/step.md, "Reopening a
+// file"). Its answer depends only on the parts' shapes and exact faces at their file poses, the base, the
+// constraints found and vaw's own build, so it is kept beside the reader's results under a hash of those.
+class KeptPrecedence {
+ public:
+  KeptPrecedence(const Assembly& a, const std::vector<Eigen::Isometry3d>& poses, const ImportOptions& import) {
+    if (import.resultCache.empty() || !(import.resultCacheMB > 0.0)) return;
+    std::uint64_t h = buildIdentity(reinterpret_cast<const void*>(&eval::geometricPrecedence));
+    const auto bytes = [&h](const void* data, std::size_t size) { h = fnv1a(data, size, h); };
+    const auto number = [&](auto v) { bytes(&v, sizeof v); };
+    const auto vec = [&](const Eigen::Vector3d& v) { bytes(v.data(), 3 * sizeof(double)); };
+    number(a.parts.size());
+    number(a.base.value_or(a.parts.size()));
+    std::map<const void*, std::uint64_t> shapes;  // a product's shape hashed once for all its instances
+    for (std::size_t i = 0; i < a.parts.size(); ++i) {
+      const Part& p = a.parts[i];
+      auto [it, fresh] = shapes.emplace(p.mesh.get(), 0);
+      if (fresh && p.mesh) {
+        std::uint64_t s = kFnvOffset;
+        s = fnv1a(p.mesh->vertices.data(), p.mesh->vertices.size() * sizeof(p.mesh->vertices[0]), s);
+        s = fnv1a(p.mesh->triangles.data(), p.mesh->triangles.size() * sizeof(p.mesh->triangles[0]), s);
+        if (p.cad)
+          for (const CadFace& f : p.cad->faces) {
+            const double fields[] = {static_cast<double>(f.surface), f.point.x(), f.point.y(), f.point.z(),
+                                     f.direction.x(), f.direction.y(), f.direction.z(), f.radius,
+                                     f.convex ? 1.0 : 0.0, f.axialMin, f.axialMax,
+                                     static_cast<double>(f.firstTriangle), static_cast<double>(f.triangleCount)};
+            s = fnv1a(fields, sizeof fields, s);
+          }
+        it->second = s;
+      }
+      number(it->second);
+      bytes(poses[i].matrix().data(), 16 * sizeof(double));
+    }
+    for (const Constraint& c : a.constraints) {
+      number(static_cast<int>(c.type));
+      number(c.part);
+      number(c.partner.value_or(a.parts.size()));
+      // Only the geometry of the constraint's own kind: a mate has no axis.
+      if (c.type == Constraint::Type::Insert) {
+        for (const Axis& ax : {c.partAxis, c.baseAxis}) {
+          vec(ax.point);
+          vec(ax.direction);
+        }
+      } else {
+        for (const Plane& pl : {c.partPlane, c.basePlane}) {
+          vec(pl.point);
+          vec(pl.normal);
+        }
+        number(c.offset);
+      }
+      vec(c.homeDirection);
+    }
+    key_ = keyText(h);
+    kept_.emplace(import.resultCache / "who-goes-first", static_cast<std::uint64_t>(import.resultCacheMB * 1048576.0));
+  }
+
+  // The pairs kept for these parts, when there are and they name parts that exist.
+  [[nodiscard]] std::optional<std::vector<std::pair<PartId, PartId>>> find(std::size_t parts) const {
+    if (!kept_) return std::nullopt;
+    const auto data = kept_->find(key_);
+    if (!data || data->size() % (2 * sizeof(std::uint32_t)) != 0) return std::nullopt;
+    std::vector<std::pair<PartId, PartId>> out;
+    for (std::size_t k = 0; k < data->size(); k += 2 * sizeof(std::uint32_t)) {
+      std::uint32_t ids[2];
+      std::memcpy(ids, data->data() + k, sizeof ids);
+      if (ids[0] >= parts || ids[1] >= parts || ids[0] == ids[1]) return std::nullopt;
+      out.emplace_back(ids[0], ids[1]);
+    }
+    return out;
+  }
+  // Keeps the answer; a folder that cannot be written only costs the next open its sweeps.
+  void store(const std::vector<std::pair<PartId, PartId>>& first) const {
+    if (!kept_) return;
+    std::vector<std::uint8_t> data;
+    for (const auto& [p, q] : first) {
+      const std::uint32_t ids[2] = {static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)};
+      const auto* b = reinterpret_cast<const std::uint8_t*>(ids);
+      data.insert(data.end(), b, b + sizeof ids);
+    }
+    try {
+      kept_->store(key_, data);
+    } catch (const OutputError&) {
+    }
+  }
+
+ private:
+  std::optional<KeptResults> kept_;
+  std::string key_;
+};
 
 struct Instance {
   const ImportedNode* node = nullptr;
@@ -457,7 +552,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   std::map<const CadSolid*, Shared> shared;
   for (std::size_t i = 0; i < instances.size(); ++i) {
     const Instance& in = instances[i];
-    checkCancel(progress, 0.1 + 0.5 * static_cast<double>(i) / static_cast<double>(instances.size()), "part " + in.name);
+    checkCancel(progress, 0.1 + 0.5 * static_cast<double>(i) / static_cast<double>(instances.size()), "parts: " + in.name);
     const CadSolid& solid = *in.node->solid;
     auto it = shared.find(&solid);
     if (it == shared.end()) {
@@ -531,13 +626,25 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     filePoses.push_back(p.pose);
     rec.push_back({p.cad, p.pose});
   }
-  const std::vector<FoundConstraint> found = recognizeConstraints(rec);
+  // Progress names the pair at hand: recognition and who goes first take seconds on a thousand parts.
+  const auto pairStage = [&](const char* stage, double from, double to) -> PairProgress {
+    if (!progress) return {};
+    return [&a, &progress, stage, from, to](double f, std::size_t i, std::size_t j) {
+      return progress(from + (to - from) * f, std::string(stage) + ": " + a.parts[i].name + " and " + a.parts[j].name);
+    };
+  };
+  const std::vector<FoundConstraint> found = recognizeConstraints(rec, {}, pairStage("recognising constraints", 0.65, 0.75));
   a.constraints = constraintsFromFound(found, a.parts, base, filePoses);
   // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
   // the pairs the geometry leaves open.
   checkCancel(progress, 0.75, "which part goes first");
-  if (const auto first = eval::geometricPrecedence(a, filePoses); !first.empty())
-    a.constraints = constraintsFromFound(found, a.parts, base, filePoses, {}, first);
+  const KeptPrecedence kept(a, filePoses, options.import);
+  std::optional<std::vector<std::pair<PartId, PartId>>> first = kept.find(a.parts.size());
+  if (!first) {
+    first = eval::geometricPrecedence(a, filePoses, {}, nullptr, pairStage("which part goes first", 0.75, 0.85));
+    kept.store(*first);
+  }
+  if (!first->empty()) a.constraints = constraintsFromFound(found, a.parts, base, filePoses, {}, *first);
   // Parts come home along their constraints and are PLACED where they come to rest there.
   a.settings.placeAtRest = true;
 

@@ -1,6 +1,7 @@
 #include "vaw/paths.hpp"
 
 #include <cstdlib>
+#include <string_view>
 #include <system_error>
 
 namespace vaw {
@@ -17,6 +18,13 @@ std::filesystem::path resourceDir() {
 }
 
 std::filesystem::path defaultScenePath() { return resourceDir() / "scenes" / "sleeve-on-shaft.vaw.json"; }
+
+std::filesystem::path userCacheDir() {
+  if (const char* env = std::getenv("VAW_CACHE_DIR")) return std::string_view(env) == "off" ? std::filesystem::path() : std::filesystem::path(env);
+  if (const char* xdg = std::getenv("XDG_CACHE_HOME"); xdg && *xdg == '/') return std::filesystem::path(xdg) / "vaw";
+  if (const char* home = std::getenv("HOME"); home && *home == '/') return std::filesystem::path(home) / ".cache" / "vaw";
+  return {};
+}
 
 namespace {
 bool somethingAt(const std::filesystem::path& p) {

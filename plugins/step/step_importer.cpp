@@ -19,6 +19,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -27,7 +28,9 @@
 
 #include "vaw/error.hpp"
 #include "vaw/importer.hpp"
+#include "vaw/kept_results.hpp"
 
+#include "step_result_cache.hpp"
 #include "step_result_parser.hpp"
 
 extern char** environ;
@@ -147,6 +150,25 @@ class StepImporter final : public vaw::MeshImporter {
     if (access(reader.c_str(), X_OK) != 0)
       vaw::fail(name, "", "a STEP reader installed with the STEP plugin", "no executable " + reader.string());
 
+    // An unchanged file read before with the same settings is not read again.
+    std::optional<vaw::KeptResults> cache;
+    std::string key;
+    if (!options.resultCache.empty() && options.resultCacheMB > 0.0) {
+      if (progress && !progress(0.0, "checking whether " + file.filename().string() + " was read before")) throw vaw::LoadCancelled();
+      cache.emplace(options.resultCache / "step-results", static_cast<std::uint64_t>(options.resultCacheMB * 1048576.0));
+      key = vaw::step::resultKey(file, options, reader);
+      if (auto kept = cache->find(key)) {
+        if (progress && !progress(0.5, "opening " + file.filename().string() + " as read before (unchanged)")) throw vaw::LoadCancelled();
+        try {
+          auto r = vaw::step::parseResult(*kept);
+          if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) return std::move(*assembly);
+        } catch (const vaw::step::MalformedResult&) {
+          // Intact on disk yet unreadable (a result of another format under a colliding key): read afresh.
+        }
+        cache->remove(key);
+      }
+    }
+
     TempDir tmp;
     const std::filesystem::path result = tmp.path() / "result.cbor";
     const std::filesystem::path errors = tmp.path() / "stderr.txt";
@@ -244,10 +266,11 @@ class StepImporter final : public vaw::MeshImporter {
                 "the reader crashed (" + signalName(WTERMSIG(status)) + ") while " + stage);
     const int code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     // The reader's result: the assembly, or its named error about the file.
+    std::vector<std::uint8_t> bytes;
     const auto readResult = [&] {
       std::ifstream in(result, std::ios::binary);
       if (!in) throw vaw::step::MalformedResult("the reader wrote no result");
-      const std::vector<std::uint8_t> bytes(std::istreambuf_iterator<char>(in), {});
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
       return vaw::step::parseResult(bytes);
     };
     if (code == 3) {
@@ -270,7 +293,16 @@ class StepImporter final : public vaw::MeshImporter {
 
     try {
       auto r = readResult();
-      if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) return std::move(*assembly);
+      if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) {
+        if (cache) {
+          try {
+            cache->store(key, bytes);
+          } catch (const vaw::OutputError& e) {
+            assembly->warnings.push_back(std::string("not kept for reopening without reading again: ") + e.what());
+          }
+        }
+        return std::move(*assembly);
+      }
       throw vaw::step::MalformedResult("an error about the file, yet the reader exited 0");
     } catch (const vaw::step::MalformedResult& e) {
       vaw::fail(name, "", "a STEP file Open CASCADE can read", std::string("an unreadable result from the reader: ") + e.what());

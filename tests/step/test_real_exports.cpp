@@ -6,10 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <map>
 #include <ostream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "bundled.hpp"
 #include "assembler.hpp"
@@ -19,6 +22,7 @@
 #include "vaw/cad_faces.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/kept_results.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace {
@@ -356,6 +360,59 @@ TEST(RealExportUp, TheFilesAxisCanBeChosen) {
   } catch (const vaw::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("+y"), std::string::npos) << e.what();
   }
+}
+
+// Reopening an unchanged file (docs/step.md, "Reopening a file"): neither Open CASCADE nor the sweeps of who
+// goes first run again, and the assembly is the one a fresh read gives; a kept answer that names parts the
+// file does not have is swept again.
+TEST(RealExportReopen, AnUnchangedFileReopensToTheSameAssemblyWithoutReadingOrSweeping) {
+  const fs::path file = vaw::test::tempDir() / "bolted-rod-reopen.stp";
+  vaw::steptest::writeBoltedRod(file, {4, true, true, false, false, "AP214"});
+  const Assembly fresh = vaw::loadAny(file, vaw::test::importers());
+  vaw::LoadOptions options;
+  options.import.resultCache = vaw::test::tempDir() / "kept-reopen";
+  std::vector<std::string> stages;
+  const vaw::ProgressFn seeing = [&](double, const std::string& stage) {
+    stages.push_back(stage);
+    return true;
+  };
+  const auto saw = [&](const std::string& what) {
+    return std::any_of(stages.begin(), stages.end(), [&](const std::string& s) { return s.find(what) != std::string::npos; });
+  };
+  const auto expectSame = [&](const Assembly& a) {
+    ASSERT_EQ(a.parts.size(), fresh.parts.size());
+    for (std::size_t i = 0; i < a.parts.size(); ++i) EXPECT_TRUE(a.parts[i].pose.isApprox(fresh.parts[i].pose, 1e-12)) << a.parts[i].name;
+    ASSERT_EQ(a.constraints.size(), fresh.constraints.size());
+    for (std::size_t i = 0; i < a.constraints.size(); ++i) {
+      EXPECT_EQ(a.constraints[i].part, fresh.constraints[i].part) << a.constraints[i].name;
+      EXPECT_EQ(a.constraints[i].partner, fresh.constraints[i].partner) << a.constraints[i].name;
+      EXPECT_TRUE(a.constraints[i].homeDirection.isApprox(fresh.constraints[i].homeDirection, 1e-12)) << a.constraints[i].name;
+    }
+  };
+
+  expectSame(vaw::loadAny(file, vaw::test::importers(), options, seeing));
+  EXPECT_TRUE(saw("tessellating"));
+  EXPECT_TRUE(std::any_of(stages.begin(), stages.end(), [](const std::string& s) {
+    return s.rfind("which part goes first: ", 0) == 0 && s.find("bolt-") != std::string::npos && s.find(" and ") != std::string::npos;
+  })) << "progress names the pair at hand";
+  EXPECT_TRUE(saw("recognising constraints: "));
+
+  stages.clear();
+  expectSame(vaw::loadAny(file, vaw::test::importers(), options, seeing));
+  EXPECT_TRUE(saw("as read before (unchanged)"));
+  EXPECT_FALSE(saw("tessellating")) << "Open CASCADE read the file again";
+  EXPECT_FALSE(saw("which part goes first: ")) << "who goes first was swept again";
+
+  // A kept answer naming a part the file does not have.
+  const fs::path kept = options.import.resultCache / "who-goes-first";
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::directory_iterator(kept)) entries.push_back(e.path());
+  ASSERT_EQ(entries.size(), 1u);
+  const std::vector<std::uint8_t> bogus(8, 0xff);
+  vaw::KeptResults(kept, 1u << 20).store(entries.front().stem().string(), bogus);
+  stages.clear();
+  expectSame(vaw::loadAny(file, vaw::test::importers(), options, seeing));
+  EXPECT_TRUE(saw("which part goes first: "));
 }
 
 // "This face down": any face of the base, as an up choice the scene keeps; a face square to a file axis

@@ -2,6 +2,7 @@
 // write with Open CASCADE, so every expected number is exact (step_fixtures.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -463,6 +464,147 @@ TEST_F(StepImport, ManyPartsLoadWithinTheDefaultLimit) {
   vaw::steptest::writeManyParts(file("many-ok.stp"), 60);
   const auto parts = instances(load(file("many-ok.stp")));
   EXPECT_EQ(parts.size(), 60u);
+}
+
+// ---------------------------------------------------------------------------------------------------
+// Reads kept for reopening (docs/step.md, "Reopening a file").
+
+struct Seen {
+  std::vector<std::string> stages;
+  [[nodiscard]] bool has(const std::string& part) const {
+    return std::any_of(stages.begin(), stages.end(), [&](const std::string& s) { return s.find(part) != std::string::npos; });
+  }
+};
+
+ImportedMesh loadSeeing(const fs::path& f, const vaw::ImportOptions& options, Seen& seen) {
+  seen = {};
+  return load(f, options, [&](double, const std::string& stage) {
+    seen.stages.push_back(stage);
+    return true;
+  });
+}
+
+std::vector<fs::path> keptEntries(const fs::path& cache) {
+  std::vector<fs::path> out;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(cache / "step-results", ec))
+    if (e.path().extension() == ".vawkept") out.push_back(e.path());
+  return out;
+}
+
+void expectSameAssembly(const ImportedMesh& a, const ImportedMesh& b) {
+  const auto x = instances(a), y = instances(b);
+  ASSERT_EQ(x.size(), y.size());
+  for (const auto& [name, i] : x) {
+    const auto j = y.find(name);
+    ASSERT_NE(j, y.end()) << name;
+    EXPECT_TRUE(i.world.isApprox(j->second.world, 0.0)) << name;
+    EXPECT_EQ(i.solid->volume, j->second.solid->volume) << name;
+    EXPECT_EQ(i.solid->mesh.vertices, j->second.solid->mesh.vertices) << name;
+    EXPECT_EQ(i.solid->mesh.triangles, j->second.solid->mesh.triangles) << name;
+    EXPECT_EQ(i.solid->faces.size(), j->second.solid->faces.size()) << name;
+  }
+  EXPECT_EQ(a.format, b.format);
+  EXPECT_EQ(a.declaredUnit, b.declaredUnit);
+}
+
+TEST_F(StepImport, AnUnchangedFileReopensWithoutBeingReadAgain) {
+  const fs::path f = file("kept.stp");
+  fs::copy_file(file("bracket.stp"), f);
+  vaw::ImportOptions options;
+  options.resultCache = file("cache-unchanged");
+  Seen seen;
+  const ImportedMesh first = loadSeeing(f, options, seen);
+  EXPECT_TRUE(seen.has("tessellating bracket"));
+  ASSERT_EQ(keptEntries(options.resultCache).size(), 1u);
+
+  const ImportedMesh again = loadSeeing(f, options, seen);
+  EXPECT_TRUE(seen.has("as read before (unchanged)"));
+  EXPECT_FALSE(seen.has("tessellating")) << "Open CASCADE read the file again";
+  expectSameAssembly(first, again);
+  expectSameAssembly(bracket(), again);
+
+  // Cancel is honoured on a kept read too.
+  int calls = 0;
+  EXPECT_THROW((void)load(f, options, [&](double, const std::string&) { return ++calls < 2; }), vaw::LoadCancelled);
+
+  // One byte more (a line break after the end) is another file; a finer tessellation another read.
+  {
+    std::ofstream(f, std::ios::app) << "\n";
+  }
+  (void)loadSeeing(f, options, seen);
+  EXPECT_TRUE(seen.has("tessellating bracket"));
+  options.relativeDeflection = 0.0005;
+  (void)loadSeeing(f, options, seen);
+  EXPECT_TRUE(seen.has("tessellating bracket"));
+  EXPECT_EQ(keptEntries(options.resultCache).size(), 3u);
+  // Without a folder nothing is kept or looked up.
+  (void)loadSeeing(f, vaw::ImportOptions{}, seen);
+  EXPECT_TRUE(seen.has("tessellating bracket"));
+}
+
+TEST_F(StepImport, ADamagedOrHalfWrittenKeptReadIsReadAfresh) {
+  vaw::ImportOptions options;
+  options.resultCache = file("cache-damaged");
+  Seen seen;
+  (void)loadSeeing(file("bracket.stp"), options, seen);
+  const auto entries = keptEntries(options.resultCache);
+  ASSERT_EQ(entries.size(), 1u);
+  const std::string whole = readAll(entries.front());
+
+  const auto damagedThenRead = [&](const std::string& content, const char* what) {
+    std::ofstream(entries.front(), std::ios::binary | std::ios::trunc) << content;
+    const ImportedMesh m = loadSeeing(file("bracket.stp"), options, seen);
+    EXPECT_TRUE(seen.has("tessellating bracket")) << what << ": a damaged entry was used";
+    expectSameAssembly(bracket(), m);
+    EXPECT_EQ(readAll(entries.front()), whole) << what << ": the entry is written whole again";
+  };
+  damagedThenRead(whole.substr(0, whole.size() / 2), "cut in half");
+  std::string flipped = whole;
+  flipped[flipped.size() - 10] = static_cast<char>(flipped[flipped.size() - 10] ^ 0x5a);
+  damagedThenRead(flipped, "one byte changed");
+  damagedThenRead("", "empty");
+
+  // A writer killed before its rename leaves a hidden temporary file: never read, removed once old.
+  const fs::path stray = options.resultCache / "step-results" / ".0123456789abcdef.vawkept.AbCdEf.tmp";
+  std::ofstream(stray) << "half";
+  fs::last_write_time(stray, fs::file_time_type::clock::now() - std::chrono::hours(2));
+  (void)loadSeeing(file("bracket.stp"), options, seen);
+  EXPECT_TRUE(seen.has("as read before"));
+  vaw::steptest::writeManyParts(file("many-kept.stp"), 20);
+  (void)loadSeeing(file("many-kept.stp"), options, seen);
+  EXPECT_FALSE(fs::exists(stray));
+}
+
+TEST_F(StepImport, KeptReadsStayUnderTheSizeLimitLeastRecentlyUsedFirstOut) {
+  vaw::ImportOptions options;
+  options.resultCache = file("cache-limit");
+  Seen seen;
+  // Three files of nearly one size (20, 21 and 22 boxes).
+  for (int n : {20, 21, 22}) vaw::steptest::writeManyParts(file("many-" + std::to_string(n) + ".stp"), n);
+  (void)loadSeeing(file("many-20.stp"), options, seen);
+  const auto one = keptEntries(options.resultCache);
+  ASSERT_EQ(one.size(), 1u);
+  const double entryMB = static_cast<double>(fs::file_size(one.front())) / 1048576.0;
+  (void)loadSeeing(file("many-21.stp"), options, seen);
+  // Used again: 21 is now the least recently used, though 20 was kept first.
+  (void)loadSeeing(file("many-20.stp"), options, seen);
+  EXPECT_TRUE(seen.has("as read before"));
+  // Room for two entries, not three.
+  options.resultCacheMB = 2.5 * entryMB;
+  (void)loadSeeing(file("many-22.stp"), options, seen);
+  EXPECT_EQ(keptEntries(options.resultCache).size(), 2u);
+  (void)loadSeeing(file("many-20.stp"), options, seen);
+  EXPECT_TRUE(seen.has("as read before"));
+  (void)loadSeeing(file("many-22.stp"), options, seen);
+  EXPECT_TRUE(seen.has("as read before"));
+  (void)loadSeeing(file("many-21.stp"), options, seen);
+  EXPECT_TRUE(seen.has("tessellating")) << "the least recently used entry went";
+  // No room: nothing kept.
+  options.resultCacheMB = 0.0;
+  (void)loadSeeing(file("bracket.stp"), options, seen);
+  (void)loadSeeing(file("bracket.stp"), options, seen);
+  EXPECT_TRUE(seen.has("tessellating"));
 }
 
 // With every build plugin loaded, a .stp file must go to this plugin, not to assimp's IFC reader.

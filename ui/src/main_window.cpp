@@ -7,6 +7,7 @@
 #include <QUndoStack>
 #include <cmath>
 
+#include "vaw/paths.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
@@ -55,6 +56,8 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     restore("import/timeoutSeconds", options.import.timeoutSeconds, 1.0);
     restore("import/readerMemoryMB", options.import.readerMemoryMB, 0.0);
     restore("import/maxInstances", options.import.maxInstances, 1.0);
+    restore("import/resultCacheMB", options.import.resultCacheMB, 0.0);
+    options.import.resultCache = vaw::userCacheDir();
     controller_.setLoadOptions(options);
   }
   liveTimer_.setSingleShot(true);

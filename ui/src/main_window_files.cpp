@@ -169,6 +169,9 @@ void MainWindow::stepSettingsDialog() {
   memory->setSpecialValueText(tr("half the machine's memory"));
   auto* instances = field("stepMaxInstances", tr("Most part instances"), 0, 1, 1e9, current.maxInstances, {},
                           tr("Part instances a file may declare, its assembly tree expanded; more is refused before reading"));
+  auto* kept = field("stepResultCache", tr("Reads kept for reopening"), 0, 0, 1e6, current.resultCacheMB, tr(" MB"),
+                     tr("An unchanged file opens again without Open CASCADE reading it; the least recently used go first past this size"));
+  kept->setSpecialValueText(tr("none"));
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, &dialog);
   connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
@@ -179,6 +182,7 @@ void MainWindow::stepSettingsDialog() {
   chosen.timeoutSeconds = timeout->value();
   chosen.readerMemoryMB = memory->value();
   chosen.maxInstances = instances->value();
+  chosen.resultCacheMB = kept->value();
   setStepSettings(chosen);
 }
 
@@ -192,11 +196,15 @@ void MainWindow::setStepSettings(const vaw::ImportOptions& import) {
   settings.setValue(QStringLiteral("import/timeoutSeconds"), import.timeoutSeconds);
   settings.setValue(QStringLiteral("import/readerMemoryMB"), import.readerMemoryMB);
   settings.setValue(QStringLiteral("import/maxInstances"), import.maxInstances);
-  const QString text = tr("STEP: tessellation %1 of each part's size, time limit %2 s, reader memory %3, at most %4 part instances")
+  settings.setValue(QStringLiteral("import/resultCacheMB"), import.resultCacheMB);
+  const QString text = tr("STEP: tessellation %1 of each part's size, time limit %2 s, reader memory %3, at most %4 part instances, "
+                          "reads kept for reopening %5")
                            .arg(import.relativeDeflection)
                            .arg(import.timeoutSeconds)
                            .arg(import.readerMemoryMB > 0.0 ? tr("%1 MB").arg(import.readerMemoryMB) : tr("half the machine's"))
-                           .arg(import.maxInstances);
+                           .arg(import.maxInstances)
+                           .arg(import.resultCacheMB > 0.0 && !import.resultCache.empty() ? tr("up to %1 MB in %2").arg(import.resultCacheMB).arg(QString::fromStdString(import.resultCache.string()))
+                                                                                       : tr("none"));
   message(static_cast<int>(MessageLogModel::Severity::Info), text);
   statusBar()->showMessage(text, 8000);
   // A new tessellation reads the open STEP assembly anew, asking first about unsaved changes; the limits

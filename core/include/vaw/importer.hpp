@@ -21,6 +21,9 @@ class LoadCancelled : public std::exception {
 
 // Called with a fraction in [0, 1] and a stage description; return false to cancel.
 using ProgressFn = std::function<bool(double fraction, const std::string& stage)>;
+// Work over pairs of parts (recognition, who goes first): the fraction done and the pair at hand, by
+// index, which the caller names; return false to cancel.
+using PairProgress = std::function<bool(double fraction, std::size_t a, std::size_t b)>;
 
 // What the importer is asked for besides the file. Mesh formats ignore it; CAD formats tessellate with it.
 struct ImportOptions {
@@ -35,6 +38,11 @@ struct ImportOptions {
   double readerMemoryMB = 0.0;
   // Part instances a CAD file may declare (its assembly tree expanded); more is refused before reading.
   double maxInstances = 10000;
+  // Where a CAD reader keeps its results, so that an unchanged file reopens without being read again
+  // (docs/step.md, "Reopening a file"); empty: nothing is kept. The applications set it to
+  // vaw::userCacheDir(); library callers and tests choose.
+  std::filesystem::path resultCache;
+  double resultCacheMB = 512.0;  // the folder's size limit
 };
 
 // The exact geometry a CAD importer knows about one face of a solid, in the solid's own frame, metres.
@@ -110,8 +118,8 @@ class MeshImporter {
 
 // A plugin exports these two C symbols. The ABI version guards against loading a plugin built
 // against a different interface.
-// 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit
-inline constexpr int kImporterAbiVersion = 4;
+// 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit; 5: the results kept
+inline constexpr int kImporterAbiVersion = 5;
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();

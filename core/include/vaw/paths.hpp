@@ -21,6 +21,12 @@ std::filesystem::path resolveScenePath(const std::filesystem::path& given);
 // "looked at /abs/NAME and <resources>/scenes/NAME", for a name resolveScenePath did not find.
 std::string scenePlaces(const std::filesystem::path& given);
 
+// Where vaw keeps what it can compute again (the STEP reader's results): $VAW_CACHE_DIR when set ("off":
+// nothing is kept, an empty path), else $XDG_CACHE_HOME/vaw, else $HOME/.cache/vaw (the user's settings
+// are in $XDG_CONFIG_HOME/vaw, the XDG base directories' place for what must not be lost); empty when
+// neither variable is set.
+std::filesystem::path userCacheDir();
+
 // What keeps `file` from being read as a regular file: "no such file", "a directory", "a loop of
 // symbolic links", "not a regular file", or the system's reason; empty when nothing does. Never throws
 // (a name too long for the system is a reason too).

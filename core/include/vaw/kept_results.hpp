@@ -1,0 +1,46 @@
+#pragma once
+// Results vaw can compute again but would rather not: kept in a folder between sessions, each under a key
+// that names everything it depends on (docs/step.md, "Reopening a file"). An entry holds a header (the
+// key again, the payload's length and hash) and the payload; one whose header does not match its payload
+// (a damaged disk, a foreign file) is removed and reported as absent. Entries are written through
+// vaw::AtomicFile, so a writer that dies leaves no half-written entry under an entry's name, only a hidden
+// temporary file, which a later store removes once it is an hour old. After each store the folder is
+// trimmed to its size limit, least recently used first.
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace vaw {
+
+class KeptResults {
+ public:
+  // `limitBytes`: the folder's entries together stay at or under this (0: nothing is kept).
+  KeptResults(std::filesystem::path dir, std::uint64_t limitBytes);
+
+  // The kept payload, or nothing (no entry, or a damaged one, which is removed). Marks the entry used.
+  [[nodiscard]] std::optional<std::vector<std::uint8_t>> find(const std::string& key) const;
+  // Keeps `payload` under `key`, then trims the folder. Throws vaw::OutputError when it cannot be written.
+  void store(const std::string& key, std::span<const std::uint8_t> payload) const;
+  void remove(const std::string& key) const;
+
+  [[nodiscard]] std::filesystem::path entry(const std::string& key) const;
+  [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  void trim() const;
+
+  std::filesystem::path dir_;
+  std::uint64_t limit_;
+};
+
+// A key's text: 16 hex digits.
+std::string keyText(std::uint64_t hash);
+
+// The size and time stamp of the file that holds `code` (a function of a library or program), standing
+// for its build in a key: a rebuilt library computes anew. 0 when it cannot be found.
+std::uint64_t buildIdentity(const void* code);
+
+}  // namespace vaw

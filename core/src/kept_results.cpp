@@ -1,0 +1,139 @@
+#include "vaw/kept_results.hpp"
+
+#include <dlfcn.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <system_error>
+
+#include "vaw/atomic_file.hpp"
+#include "vaw/error.hpp"
+#include "vaw/hash.hpp"
+
+
+namespace vaw {
+
+namespace {
+
+constexpr const char* kMagic = "vaw-kept 1";
+constexpr const char* kSuffix = ".vawkept";
+
+std::string hexText(std::uint64_t h) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
+  return buf;
+}
+
+// A writer killed between creating and renaming its temporary file leaves ".NAME.XXXXXX.tmp"; one older
+// than an hour is no writer's any more.
+bool strayTemporary(const std::filesystem::directory_entry& e) {
+  const std::string name = e.path().filename().string();
+  if (name.size() < 5 || name.front() != '.' || name.substr(name.size() - 4) != ".tmp") return false;
+  std::error_code ec;
+  const auto written = e.last_write_time(ec);
+  return !ec && std::filesystem::file_time_type::clock::now() - written > std::chrono::hours(1);
+}
+
+}  // namespace
+
+KeptResults::KeptResults(std::filesystem::path dir, std::uint64_t limitBytes) : dir_(std::move(dir)), limit_(limitBytes) {}
+
+std::filesystem::path KeptResults::entry(const std::string& key) const { return dir_ / (key + kSuffix); }
+
+std::optional<std::vector<std::uint8_t>> KeptResults::find(const std::string& key) const {
+  const std::filesystem::path path = entry(key);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::string magic, keyLine, payloadLine;
+  std::getline(in, magic);
+  std::getline(in, keyLine);
+  std::getline(in, payloadLine);
+  const bool headerRead = static_cast<bool>(in);
+  std::vector<std::uint8_t> payload(std::istreambuf_iterator<char>(in), {});
+  std::uint64_t length = 0;
+  char hash[17] = {};
+  const bool intact = headerRead && magic == kMagic && keyLine == "key " + key &&
+                      std::sscanf(payloadLine.c_str(), "payload %" SCNu64 " %16s", &length, hash) == 2 &&
+                      length == payload.size() && hexText(fnv1a(payload.data(), payload.size())) == hash;
+  std::error_code ec;
+  if (!intact) {
+    std::filesystem::remove(path, ec);
+    return std::nullopt;
+  }
+  // Used now: the last to go when the folder is trimmed.
+  std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now(), ec);
+  return payload;
+}
+
+void KeptResults::store(const std::string& key, std::span<const std::uint8_t> result) const {
+  if (limit_ == 0) return;
+  std::error_code ec;
+  std::filesystem::create_directories(dir_, ec);
+  if (ec) throw OutputError("cannot create the folder " + dir_.string() + ": " + ec.message());
+  AtomicFile out(entry(key));
+  std::ostringstream header;
+  header << kMagic << "\nkey " << key << "\npayload " << result.size() << ' ' << hexText(fnv1a(result.data(), result.size())) << '\n';
+  out.write(header.str());
+  out.write(std::string_view(reinterpret_cast<const char*>(result.data()), result.size()));
+  out.commit();
+  trim();
+}
+
+void KeptResults::remove(const std::string& key) const {
+  std::error_code ec;
+  std::filesystem::remove(entry(key), ec);
+}
+
+void KeptResults::trim() const {
+  struct Entry {
+    std::filesystem::path path;
+    std::filesystem::file_time_type used;
+    std::uintmax_t size;
+  };
+  std::vector<Entry> entries;
+  std::uintmax_t total = 0;
+  std::error_code ec;
+  for (const auto& e : std::filesystem::directory_iterator(dir_, ec)) {
+    std::error_code one;
+    if (strayTemporary(e)) {
+      std::filesystem::remove(e.path(), one);
+      continue;
+    }
+    if (e.path().extension() != kSuffix || !e.is_regular_file(one)) continue;
+    Entry x{e.path(), e.last_write_time(one), e.file_size(one)};
+    if (one) continue;
+    total += x.size;
+    entries.push_back(std::move(x));
+  }
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.used < b.used; });
+  for (const Entry& e : entries) {
+    if (total <= limit_) break;
+    std::error_code one;
+    if (std::filesystem::remove(e.path, one)) total -= e.size;
+  }
+}
+
+std::string keyText(std::uint64_t hash) { return hexText(hash); }
+
+std::uint64_t buildIdentity(const void* code) {
+  Dl_info info{};
+  if (dladdr(code, &info) == 0 || info.dli_fname == nullptr) return 0;
+  std::error_code ec;
+  const std::filesystem::path file = info.dli_fname;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec) return 0;
+  const auto written = std::filesystem::last_write_time(file, ec);
+  if (ec) return 0;
+  std::uint64_t h = fnv1a(&size, sizeof size);
+  const auto ticks = static_cast<std::int64_t>(written.time_since_epoch().count());
+  return fnv1a(&ticks, sizeof ticks, h);
+}
+
+}  // namespace vaw
