@@ -7,6 +7,7 @@
 //                        does this at most
 //                        every 100 ms while running: the per-step share is a ninth of it at 90 Hz)
 //   BM_Timeline          the timeline's playhead update and a full repaint (also at most every 100 ms)
+//   BM_Tree...           the scene tree: expand every row, click a part's row, Page Down (see below)
 //   BM_WholeStep         SimulationController::stepOnce: the world's step, the frame, the viewport and, since
 //                        a paused window refreshes its panels at once, the inspector and timeline too: an
 //                        upper bound of the GUI-side cost of one step
@@ -17,7 +18,10 @@
 
 #include <QApplication>
 #include <QElapsedTimer>
+#include <QScrollBar>
 #include <QTableView>
+#include <QTest>
+#include <QTreeView>
 #include <QSignalSpy>
 #include <cmath>
 #include <cstdio>
@@ -29,6 +33,7 @@
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/part_properties_model.hpp"
+#include "vaw/ui/scene_tree_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/timeline.hpp"
 #include "vaw/ui/viewport.hpp"
@@ -36,6 +41,7 @@
 namespace {
 
 vaw::ui::MainWindow* g_window = nullptr;
+vaw::ui::AssemblyController* g_controller = nullptr;
 vaw::PartId g_gear = 0;
 int g_tick = 0;
 
@@ -115,11 +121,69 @@ void BM_WholeStep(benchmark::State& state) {
   state.counters["active"] = static_cast<double>(g_window->simulation().world().activeParts());
 }
 
+// The scene tree with every part of the assembly in it (1,027 rows on the product), used as a person uses
+// it: every row expanded and the view repainted; a click on a part's row far down the tree (the selection,
+// the viewport's highlight and the part panel follow it) and the repaint; Page Down and the repaint.
+QTreeView* sceneTree() { return g_window->sceneDock()->view(); }
+
+void BM_TreeExpandAll(benchmark::State& state) {
+  QTreeView* tree = sceneTree();
+  for (auto _ : state) {
+    tree->expandAll();
+    tree->repaint();
+    state.PauseTiming();
+    tree->collapseAll();
+    tree->repaint();
+    state.ResumeTiming();
+  }
+  tree->expandToDepth(1);
+  state.counters["rows"] = static_cast<double>(g_controller->assembly()->parts.size());
+}
+
+void BM_TreeClickPart(benchmark::State& state) {
+  QTreeView* tree = sceneTree();
+  tree->expandAll();
+  const auto* model = g_window->sceneDock()->model();
+  const std::size_t n = g_controller->assembly()->parts.size();
+  std::size_t k = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const QModelIndex index = model->indexOfPart(static_cast<vaw::PartId>(n - 1 - (k++ % 2) * 30));
+    tree->scrollTo(index);
+    tree->repaint();
+    QCoreApplication::processEvents();
+    const QPoint at = tree->visualRect(index).center();
+    state.ResumeTiming();
+    QTest::mouseClick(tree->viewport(), Qt::LeftButton, {}, at);
+    QCoreApplication::processEvents();
+    tree->repaint();
+    g_window->partDock()->repaint();
+  }
+}
+
+void BM_TreePageDown(benchmark::State& state) {
+  QTreeView* tree = sceneTree();
+  tree->expandAll();
+  tree->setFocus();
+  for (auto _ : state) {
+    QTest::keyClick(tree, Qt::Key_PageDown);
+    tree->repaint();
+    if (tree->verticalScrollBar()->value() == tree->verticalScrollBar()->maximum()) {
+      state.PauseTiming();
+      QTest::keyClick(tree, Qt::Key_Home);
+      state.ResumeTiming();
+    }
+  }
+}
+
 BENCHMARK(BM_FrameDescription)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_ViewportFrame)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Inspector)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_Timeline)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_WholeStep)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_TreeExpandAll)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TreeClickPart)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_TreePageDown)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
@@ -133,6 +197,7 @@ int main(int argc, char** argv) {
   window.resize(1280, 800);
   window.show();
   g_window = &window;
+  g_controller = &controller;
   QSignalSpy loaded(&controller, &vaw::ui::AssemblyController::assemblyLoaded);
   const bool other = argc == 3;
   QElapsedTimer opening;

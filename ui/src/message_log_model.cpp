@@ -1,8 +1,9 @@
 #include "vaw/ui/message_log_model.hpp"
 
-#include <QApplication>
 #include <QStringList>
 #include <QStyle>
+
+#include "standard_icon.hpp"
 
 namespace vaw::ui {
 
@@ -79,12 +80,11 @@ QVariant MessageLogModel::data(const QModelIndex& index, int role) const {
       return tip;
     }
     case Qt::DecorationRole: {
-      const QStyle* style = QApplication::style();
-      if (index.column() != SeverityColumn || style == nullptr) return {};
+      if (index.column() != SeverityColumn) return {};
       switch (m.severity) {
-        case Severity::Info: return style->standardIcon(QStyle::SP_MessageBoxInformation);
-        case Severity::Warning: return style->standardIcon(QStyle::SP_MessageBoxWarning);
-        case Severity::Error: return style->standardIcon(QStyle::SP_MessageBoxCritical);
+        case Severity::Info: return standardIcon(QStyle::SP_MessageBoxInformation);
+        case Severity::Warning: return standardIcon(QStyle::SP_MessageBoxWarning);
+        case Severity::Error: return standardIcon(QStyle::SP_MessageBoxCritical);
       }
       return {};
     }

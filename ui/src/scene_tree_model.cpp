@@ -1,9 +1,9 @@
 #include "vaw/ui/scene_tree_model.hpp"
 
-#include <QApplication>
 #include <QStyle>
 
 #include "format.hpp"
+#include "standard_icon.hpp"
 #include "vaw/sim/scene.hpp"
 
 namespace vaw::ui {
@@ -164,14 +164,12 @@ QVariant SceneTreeModel::data(const QModelIndex& index, int role) const {
     case Qt::ToolTipRole: return index.column() == CollisionColumn && !item->collisionToolTip.isEmpty() ? item->collisionToolTip : item->toolTip;
     case Qt::DecorationRole: {
       if (index.column() != NameColumn) return {};
-      const QStyle* style = QApplication::style();
-      if (style == nullptr) return {};
       switch (item->kind) {
-        case vaw::TreeNode::Kind::Assembly: return style->standardIcon(QStyle::SP_DirHomeIcon);
-        case vaw::TreeNode::Kind::Group: return style->standardIcon(QStyle::SP_DirIcon);
-        case vaw::TreeNode::Kind::Part: return style->standardIcon(QStyle::SP_FileIcon);
-        case vaw::TreeNode::Kind::Environment: return style->standardIcon(QStyle::SP_DriveHDIcon);
-        case vaw::TreeNode::Kind::MeshNode: return style->standardIcon(QStyle::SP_FileLinkIcon);
+        case vaw::TreeNode::Kind::Assembly: return standardIcon(QStyle::SP_DirHomeIcon);
+        case vaw::TreeNode::Kind::Group: return standardIcon(QStyle::SP_DirIcon);
+        case vaw::TreeNode::Kind::Part: return standardIcon(QStyle::SP_FileIcon);
+        case vaw::TreeNode::Kind::Environment: return standardIcon(QStyle::SP_DriveHDIcon);
+        case vaw::TreeNode::Kind::MeshNode: return standardIcon(QStyle::SP_FileLinkIcon);
       }
       return {};
     }
