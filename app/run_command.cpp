@@ -8,9 +8,7 @@
 // or killed run leaves the previous run's files.
 #include "run_command.hpp"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <unistd.h>
+#include "directory_lock.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -28,28 +26,6 @@
 #include "vaw/sim/session.hpp"
 
 namespace vaw::app {
-
-namespace {
-
-// Holds an exclusive lock on DIR/.vaw-run.lock for its lifetime.
-class DirectoryLock {
- public:
-  explicit DirectoryLock(const std::filesystem::path& dir) {
-    const std::filesystem::path file = dir / ".vaw-run.lock";
-    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0) throw OutputError("cannot lock " + file.string() + ": " + std::strerror(errno));
-  }
-  ~DirectoryLock() {
-    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
-  }
-  DirectoryLock(const DirectoryLock&) = delete;
-  DirectoryLock& operator=(const DirectoryLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
-
-}  // namespace
 
 int run(const RunArgs& args) {
   const std::string& scene = args.scene;

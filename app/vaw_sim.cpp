@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "evaluate_command.hpp"
+#include "clearance_command.hpp"
 #include "run_command.hpp"
 #include "trials_command.hpp"
 #include "work_precision_command.hpp"
@@ -286,6 +287,20 @@ int dispatch(int argc, char** argv) {
       throw CLI::ValidationError("give SCENE --inputs SCRIPT, or --replay SESSION");
     command = [&] { return vaw::app::run(run); };
   });
+
+  vaw::app::ClearanceArgs cl;
+  CLI::App* clCmd = app.add_subcommand(
+      "clearance", "How close a part's carried path in a recorded session comes to everything else: the nearest object and "
+                   "distance at every step, each object's least clearance, near misses, contacts and interference "
+                   "(docs/clearance.md); write DIR/clearance.csv and DIR/summary.json.");
+  clCmd->add_option("SESSION", cl.session, "Recorded session (.vaw-session.json)")->required();
+  clCmd->add_option("--part", cl.part, "The part whose path is measured")->required();
+  clCmd->add_option("--from", cl.from, "Start of the span, s (default: every step the part is INHAND or ONTOOL)");
+  clCmd->add_option("--to", cl.to, "End of the span, s");
+  clCmd->add_option("--threshold", cl.thresholdMm, "Closer than this is a near miss, mm (default 5)")->check(CLI::Range(0.0, 1e6));
+  clCmd->add_option("--reach", cl.reachMm, "Objects never this close are left out of the table, mm (default 50)")->check(CLI::Range(0.0, 1e6));
+  clCmd->add_option("--out", cl.out, "Output directory")->type_name("DIR")->required();
+  clCmd->callback([&] { command = [&] { return vaw::app::clearance(cl); }; });
 
   vaw::app::EvaluateArgs ev;
   CLI::App* evCmd = app.add_subcommand(

@@ -156,3 +156,35 @@ TEST(Rays, HitMeshesAndPrimitivesExactly) {
   EXPECT_FALSE(w.castRay({5.0, 5.0, 1.0}, down, 10.0)) << "nothing below";
   EXPECT_FALSE(w.castRay({0.5, 0.5, 1.0}, down, 0.5)) << "the table is farther than the ray";
 }
+
+// The nearest points of two meshes, in the world: exact, and the same when the search is bounded by a pair
+// of surface points (the clearance along a path hands it the last step's pair, docs/clearance.md); a bound
+// that is the nearest pair itself comes back as it is.
+TEST(Proxies, NearestPointsAreExactWithOrWithoutABound) {
+  ctest::SceneBuilder b;
+  b.part("a", primitives::box({0.02, 0.02, 0.02}), at(0, 0, 0));
+  b.part("b", primitives::cylinder(0.01, 0.04, 64), at(0.1, 0.003, 0));
+  CollisionWorld w(b.a);
+  const ObjectId a = ObjectId::part(0), c = ObjectId::part(1);
+  const CollisionWorld::Nearest free = w.nearest(a, c);
+  // The box's face at x = 0.01; the cylinder's facets within 1.2e-5 m of its radius at x = 0.09.
+  EXPECT_NEAR(free.distance, 0.08, 2e-5);
+  EXPECT_NEAR(free.onA.x(), 0.01, 1e-9);
+  EXPECT_NEAR((free.onA - free.onB).norm(), free.distance, 1e-12);
+  CollisionWorld::Nearest far;
+  far.onA = Eigen::Vector3d(-0.01, 0.0, 0.0);  // the box's far face
+  far.onB = Eigen::Vector3d(0.11, 0.003, 0.0);  // the cylinder's far side
+  const CollisionWorld::Nearest bounded = w.nearest(a, c, &far);
+  EXPECT_NEAR(bounded.distance, free.distance, 1e-15);
+  // Many pairs are nearest (an edge of the cylinder along the box's face): any of them, truly that far.
+  EXPECT_NEAR(bounded.onA.x(), 0.01, 1e-9);
+  EXPECT_NEAR((bounded.onA - bounded.onB).norm(), bounded.distance, 1e-12);
+  const CollisionWorld::Nearest again = w.nearest(a, c, &free);
+  EXPECT_NEAR(again.distance, free.distance, 1e-15);
+  // Moved 30 mm closer: the old pair, carried along, bounds the new answer.
+  w.setPose(c, at(0.07, 0.003, 0));
+  CollisionWorld::Nearest carried = free;
+  carried.onB.x() -= 0.03;
+  EXPECT_NEAR(w.nearest(a, c, &carried).distance, w.nearest(a, c).distance, 1e-15);
+  EXPECT_NEAR(w.nearest(a, c).distance, free.distance - 0.03, 1e-12);
+}

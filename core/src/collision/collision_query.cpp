@@ -486,6 +486,35 @@ QueryResult CollisionWorld::queryAll(ObjectId a, const QueryOptions& options) co
 
 double CollisionWorld::distance(ObjectId a, ObjectId b) const { return distance(a, impl_->get(a).pose, b); }
 
+CollisionWorld::Nearest CollisionWorld::nearest(ObjectId a, ObjectId b, const Nearest* near) const {
+  const WorldObject& A = impl_->get(a);
+  const WorldObject& B = impl_->get(b);
+  Nearest n;
+  if (!A.geometry || !B.geometry) return n;
+  fcl::DistanceRequestd req;
+  req.enable_nearest_points = true;
+  fcl::DistanceResultd res;
+  // FCL keeps what the result holds and prunes every pair of nodes no closer (its traversal's stop test):
+  // seeded a hair above the known pair, the search finds the true pair and only looks near it.
+  double seeded = std::numeric_limits<double>::infinity();
+  if (near) {
+    seeded = (near->onA - near->onB).norm() * (1.0 + 1e-9) + 1e-12;
+    res.min_distance = seeded;
+  }
+  fcl::distance(A.geometry.get(), A.fclPose(A.pose), B.geometry.get(), B.fclPose(B.pose), req, res);
+  if (near && res.min_distance >= seeded) {
+    n.distance = (near->onA - near->onB).norm();
+    n.onA = near->onA;
+    n.onB = near->onB;
+    return n;
+  }
+  n.distance = std::max(0.0, res.min_distance);
+  // FCL (0.6 on) gives the nearest points in the world frame.
+  n.onA = res.nearest_points[0];
+  n.onB = res.nearest_points[1];
+  return n;
+}
+
 double CollisionWorld::distance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b) const {
   const WorldObject& A = impl_->get(a);
   const WorldObject& B = impl_->get(b);

@@ -242,6 +242,17 @@ class CollisionWorld {
   // a against everything its bounding box reaches.
   [[nodiscard]] QueryResult queryAll(ObjectId a, const QueryOptions& options = {}) const;
 
+  // The smallest distance between a and b at their poses and where it is: the nearest point of each, in
+  // world coordinates. Distance 0 when they touch or intersect; infinite (points unset) when one has no
+  // collision geometry.
+  struct Nearest {
+    double distance = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d onA = Eigen::Vector3d::Zero(), onB = Eigen::Vector3d::Zero();
+  };
+  // `near`: two points, one on each surface at their poses (the last step's nearest points carried along):
+  // the answer is never farther than they are, and the search leaves out everything farther, which makes a
+  // path's next step cost a fraction of the first.
+  [[nodiscard]] Nearest nearest(ObjectId a, ObjectId b, const Nearest* near = nullptr) const;
   // Smallest distance between a (at poseA) and b; 0 when they intersect.
   [[nodiscard]] double distance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b) const;
   [[nodiscard]] double distance(ObjectId a, ObjectId b) const;

@@ -1,0 +1,13 @@
+#pragma once
+#include <optional>
+#include <string>
+
+namespace vaw::app {
+// `vaw-sim clearance SESSION --part NAME --out DIR`: the options as parsed in vaw_sim.cpp (docs/clearance.md).
+struct ClearanceArgs {
+  std::string session, part, out;
+  std::optional<double> from, to;  // s
+  double thresholdMm = 5.0, reachMm = 50.0;
+};
+int clearance(const ClearanceArgs& args);
+}  // namespace vaw::app
