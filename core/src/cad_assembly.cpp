@@ -38,56 +38,25 @@ namespace g2 = collision::geom2;
 // constraints found and vaw's own build, so it is kept beside the reader's results under a hash of those.
 class KeptPrecedence {
  public:
-  KeptPrecedence(const Assembly& a, const std::vector<Eigen::Isometry3d>& poses, const ImportOptions& import) {
-    if (import.resultCache.empty() || !(import.resultCacheMB > 0.0)) return;
+  // At this point every part stands at its file pose, which the content hash covers; the exact faces,
+  // which it does not, are hashed once per product.
+  KeptPrecedence(const Assembly& a, const ImportOptions& import)
+      : kept_(KeptResults::under(import.resultCache, import.resultCacheMB, "who-goes-first")) {
+    if (!kept_) return;
     std::uint64_t h = buildIdentity(reinterpret_cast<const void*>(&eval::geometricPrecedence));
-    const auto bytes = [&h](const void* data, std::size_t size) { h = fnv1a(data, size, h); };
-    const auto number = [&](auto v) { bytes(&v, sizeof v); };
-    const auto vec = [&](const Eigen::Vector3d& v) { bytes(v.data(), 3 * sizeof(double)); };
-    number(a.parts.size());
-    number(a.base.value_or(a.parts.size()));
-    std::map<const void*, std::uint64_t> shapes;  // a product's shape hashed once for all its instances
-    for (std::size_t i = 0; i < a.parts.size(); ++i) {
-      const Part& p = a.parts[i];
-      auto [it, fresh] = shapes.emplace(p.mesh.get(), 0);
-      if (fresh && p.mesh) {
-        std::uint64_t s = kFnvOffset;
-        s = fnv1a(p.mesh->vertices.data(), p.mesh->vertices.size() * sizeof(p.mesh->vertices[0]), s);
-        s = fnv1a(p.mesh->triangles.data(), p.mesh->triangles.size() * sizeof(p.mesh->triangles[0]), s);
-        if (p.cad)
-          for (const CadFace& f : p.cad->faces) {
-            const double fields[] = {static_cast<double>(f.surface), f.point.x(), f.point.y(), f.point.z(),
-                                     f.direction.x(), f.direction.y(), f.direction.z(), f.radius,
-                                     f.convex ? 1.0 : 0.0, f.axialMin, f.axialMax,
-                                     static_cast<double>(f.firstTriangle), static_cast<double>(f.triangleCount)};
-            s = fnv1a(fields, sizeof fields, s);
-          }
-        it->second = s;
-      }
-      number(it->second);
-      bytes(poses[i].matrix().data(), 16 * sizeof(double));
-    }
-    for (const Constraint& c : a.constraints) {
-      number(static_cast<int>(c.type));
-      number(c.part);
-      number(c.partner.value_or(a.parts.size()));
-      // Only the geometry of the constraint's own kind: a mate has no axis.
-      if (c.type == Constraint::Type::Insert) {
-        for (const Axis& ax : {c.partAxis, c.baseAxis}) {
-          vec(ax.point);
-          vec(ax.direction);
+    const std::uint64_t content = contentHash(a);
+    h = fnv1a(&content, sizeof content, h);
+    std::set<const CadSolid*> solids;
+    for (const Part& p : a.parts)
+      if (p.cad && solids.insert(p.cad.get()).second)
+        for (const CadFace& f : p.cad->faces) {
+          const double fields[] = {static_cast<double>(f.surface), f.point.x(), f.point.y(), f.point.z(),
+                                   f.direction.x(), f.direction.y(), f.direction.z(), f.radius,
+                                   f.convex ? 1.0 : 0.0, f.axialMin, f.axialMax,
+                                   static_cast<double>(f.firstTriangle), static_cast<double>(f.triangleCount)};
+          h = fnv1a(fields, sizeof fields, h);
         }
-      } else {
-        for (const Plane& pl : {c.partPlane, c.basePlane}) {
-          vec(pl.point);
-          vec(pl.normal);
-        }
-        number(c.offset);
-      }
-      vec(c.homeDirection);
-    }
-    key_ = keyText(h);
-    kept_.emplace(import.resultCache / "who-goes-first", static_cast<std::uint64_t>(import.resultCacheMB * 1048576.0));
+    key_ = hashText(h);
   }
 
   // The pairs kept for these parts, when there are and they name parts that exist.
@@ -638,7 +607,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
   // the pairs the geometry leaves open.
   checkCancel(progress, 0.75, "which part goes first");
-  const KeptPrecedence kept(a, filePoses, options.import);
+  const KeptPrecedence kept(a, options.import);
   std::optional<std::vector<std::pair<PartId, PartId>>> first = kept.find(a.parts.size());
   if (!first) {
     first = eval::geometricPrecedence(a, filePoses, {}, nullptr, pairStage("which part goes first", 0.75, 0.85));

@@ -25,12 +25,6 @@ namespace {
 constexpr const char* kMagic = "vaw-kept 1";
 constexpr const char* kSuffix = ".vawkept";
 
-std::string hexText(std::uint64_t h) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016" PRIx64, h);
-  return buf;
-}
-
 // A writer killed between creating and renaming its temporary file leaves ".NAME.XXXXXX.tmp"; one older
 // than an hour is no writer's any more.
 bool strayTemporary(const std::filesystem::directory_entry& e) {
@@ -44,6 +38,11 @@ bool strayTemporary(const std::filesystem::directory_entry& e) {
 }  // namespace
 
 KeptResults::KeptResults(std::filesystem::path dir, std::uint64_t limitBytes) : dir_(std::move(dir)), limit_(limitBytes) {}
+
+std::optional<KeptResults> KeptResults::under(const std::filesystem::path& root, double limitMB, const std::string& name) {
+  if (root.empty() || !(limitMB > 0.0)) return std::nullopt;
+  return KeptResults(root / name, static_cast<std::uint64_t>(limitMB * 1048576.0));
+}
 
 std::filesystem::path KeptResults::entry(const std::string& key) const { return dir_ / (key + kSuffix); }
 
@@ -61,7 +60,7 @@ std::optional<std::vector<std::uint8_t>> KeptResults::find(const std::string& ke
   char hash[17] = {};
   const bool intact = headerRead && magic == kMagic && keyLine == "key " + key &&
                       std::sscanf(payloadLine.c_str(), "payload %" SCNu64 " %16s", &length, hash) == 2 &&
-                      length == payload.size() && hexText(fnv1a(payload.data(), payload.size())) == hash;
+                      length == payload.size() && hashText(fnv1a(payload.data(), payload.size())) == hash;
   std::error_code ec;
   if (!intact) {
     std::filesystem::remove(path, ec);
@@ -79,7 +78,7 @@ void KeptResults::store(const std::string& key, std::span<const std::uint8_t> re
   if (ec) throw OutputError("cannot create the folder " + dir_.string() + ": " + ec.message());
   AtomicFile out(entry(key));
   std::ostringstream header;
-  header << kMagic << "\nkey " << key << "\npayload " << result.size() << ' ' << hexText(fnv1a(result.data(), result.size())) << '\n';
+  header << kMagic << "\nkey " << key << "\npayload " << result.size() << ' ' << hashText(fnv1a(result.data(), result.size())) << '\n';
   out.write(header.str());
   out.write(std::string_view(reinterpret_cast<const char*>(result.data()), result.size()));
   out.commit();
@@ -119,8 +118,6 @@ void KeptResults::trim() const {
     if (std::filesystem::remove(e.path, one)) total -= e.size;
   }
 }
-
-std::string keyText(std::uint64_t hash) { return hexText(hash); }
 
 std::uint64_t buildIdentity(const void* code) {
   Dl_info info{};

@@ -151,11 +151,10 @@ class StepImporter final : public vaw::MeshImporter {
       vaw::fail(name, "", "a STEP reader installed with the STEP plugin", "no executable " + reader.string());
 
     // An unchanged file read before with the same settings is not read again.
-    std::optional<vaw::KeptResults> cache;
+    const std::optional<vaw::KeptResults> cache = vaw::KeptResults::under(options.resultCache, options.resultCacheMB, "step-results");
     std::string key;
-    if (!options.resultCache.empty() && options.resultCacheMB > 0.0) {
+    if (cache) {
       if (progress && !progress(0.0, "checking whether " + file.filename().string() + " was read before")) throw vaw::LoadCancelled();
-      cache.emplace(options.resultCache / "step-results", static_cast<std::uint64_t>(options.resultCacheMB * 1048576.0));
       key = vaw::step::resultKey(file, options, reader);
       if (auto kept = cache->find(key)) {
         if (progress && !progress(0.5, "opening " + file.filename().string() + " as read before (unchanged)")) throw vaw::LoadCancelled();

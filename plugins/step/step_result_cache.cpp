@@ -9,7 +9,6 @@
 
 #include "vaw/error.hpp"
 #include "vaw/hash.hpp"
-#include "vaw/kept_results.hpp"
 
 #include "step_result.hpp"
 
@@ -45,7 +44,7 @@ std::string resultKey(const std::filesystem::path& file, const ImportOptions& op
   h = mix(ec ? std::uintmax_t{0} : readerSize, h);
   const auto readerTime = std::filesystem::last_write_time(reader, ec);
   h = mix(ec ? std::int64_t{0} : static_cast<std::int64_t>(readerTime.time_since_epoch().count()), h);
-  return keyText(h);
+  return hashText(h);
 }
 
 }  // namespace vaw::step

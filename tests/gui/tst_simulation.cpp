@@ -24,6 +24,7 @@
 #include <optional>
 
 #include "gui_test_support.hpp"
+#include "vaw/hash.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/sim/report.hpp"
 #include "vaw/sim/session.hpp"
@@ -266,7 +267,7 @@ void TestSimulation::sessionSavedInTheWindowReplaysBitForBit() {
   QVERIFY(dir.isValid());
   const QString file = dir.filePath(QStringLiteral("gui.vaw-session.json"));
   QVERIFY(window_->saveSession(file));
-  const std::string expected = vaw::sim::hashText(world().stateHash());
+  const std::string expected = vaw::hashText(world().stateHash());
   QVERIFY(!sim().recorder().session().edits.empty());
   QProcess run;
   run.start(QStringLiteral(VAW_SIM_EXE),
@@ -295,7 +296,7 @@ void TestSimulation::sessionSavedInTheWindowReplaysBitForBit() {
 void TestSimulation::sessionOpensAndPlaysBack() {
   QVERIFY(!savedSession_.isEmpty());
   const auto session = vaw::sim::loadSession(std::filesystem::path(QFile::encodeName(savedSession_).toStdString()));
-  const std::string expected = vaw::sim::hashText(vaw::sim::replay(sim().recorder().scenePtr(), session).stateHash());
+  const std::string expected = vaw::hashText(vaw::sim::replay(sim().recorder().scenePtr(), session).stateHash());
   QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
   controller_->open(savedSession_);
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
@@ -313,7 +314,7 @@ void TestSimulation::sessionOpensAndPlaysBack() {
   QTRY_VERIFY_WITH_TIMEOUT(!sim().isPlaying(), 30000);
   QVERIFY(sim().recorder().atEnd());
   QVERIFY(!sim().isPlayback());  // from here the desktop's hands drive it
-  QCOMPARE(vaw::sim::hashText(world().stateHash()), expected);
+  QCOMPARE(vaw::hashText(world().stateHash()), expected);
   QCOMPARE(sim().recorder().length(), session.inputs.size());
 }
 

@@ -9,6 +9,7 @@
 #include <numbers>
 
 #include "sim_test_support.hpp"
+#include "vaw/hash.hpp"
 #include "vaw/sim/recorder.hpp"
 #include "vaw/sim/session.hpp"
 #include "vaw/units.hpp"

@@ -166,4 +166,9 @@ struct Assembly {
   [[nodiscard]] Eigen::AlignedBox3d worldBounds() const;
 };
 
+// A hash of what a simulation of the assembly depends on: materials, parts (name, mesh, poses, mass,
+// category), friction settings, base, environment and constraints. Sessions keep it (Scene::contentHash)
+// to refuse a replay on a changed scene; a STEP file's kept answer of who goes first is filed under it.
+std::uint64_t contentHash(const Assembly& a);
+
 }  // namespace vaw

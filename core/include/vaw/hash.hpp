@@ -3,6 +3,8 @@
 // security; stable across runs and machines of one byte order.
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
+#include <string>
 #include <string_view>
 
 namespace vaw {
@@ -19,5 +21,12 @@ inline std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t h =
 }
 
 inline std::uint64_t fnv1a(std::string_view s, std::uint64_t h) { return fnv1a(s.data(), s.size(), h); }
+
+// A hash as text, 16 hex digits: as sessions store the scene's, and as kept results are named.
+inline std::string hashText(std::uint64_t hash) {
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash));
+  return buf;
+}
 
 }  // namespace vaw

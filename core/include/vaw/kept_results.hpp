@@ -19,6 +19,9 @@ class KeptResults {
  public:
   // `limitBytes`: the folder's entries together stay at or under this (0: nothing is kept).
   KeptResults(std::filesystem::path dir, std::uint64_t limitBytes);
+  // The folder `name` under `root` with a limit of `limitMB`, or nothing when `root` is empty or the limit
+  // is not positive (ImportOptions::resultCache and resultCacheMB: nothing kept).
+  static std::optional<KeptResults> under(const std::filesystem::path& root, double limitMB, const std::string& name);
 
   // The kept payload, or nothing (no entry, or a damaged one, which is removed). Marks the entry used.
   [[nodiscard]] std::optional<std::vector<std::uint8_t>> find(const std::string& key) const;
@@ -35,9 +38,6 @@ class KeptResults {
   std::filesystem::path dir_;
   std::uint64_t limit_;
 };
-
-// A key's text: 16 hex digits.
-std::string keyText(std::uint64_t hash);
 
 // The size and time stamp of the file that holds `code` (a function of a library or program), standing
 // for its build in a key: a rebuilt library computes anew. 0 when it cannot be found.

@@ -19,9 +19,7 @@ using Kind = ClearanceSpan::Kind;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double boxGap(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
-  if (a.isEmpty() || b.isEmpty()) return kInf;
-  const Eigen::Vector3d gap = (a.min() - b.max()).cwiseMax(b.min() - a.max()).cwiseMax(0.0);
-  return gap.norm();
+  return a.isEmpty() || b.isEmpty() ? kInf : a.exteriorDistance(b);
 }
 
 bool carried(interact::PartState s) { return s == interact::PartState::InHand || s == interact::PartState::OnTool; }
@@ -96,6 +94,7 @@ ClearanceReport clearanceAlong(const std::shared_ptr<const Scene>& scene, const 
     tr.kind.reset();
   };
 
+  std::vector<std::pair<double, std::size_t>> byGap;  // reused by every step
   const auto measure = [&](const World& w) {
     const double t = w.time();
     const bool inSpan = options.from || options.to ? (t >= options.from.value_or(-kInf) && t <= options.to.value_or(kInf))
@@ -111,7 +110,7 @@ ClearanceReport clearanceAlong(const std::shared_ptr<const Scene>& scene, const 
       }
     // Nearest boxes first, so the step's least distance is found early and prunes the rest.
     const Eigen::AlignedBox3d box = cw.worldBounds(self);
-    std::vector<std::pair<double, std::size_t>> byGap;
+    byGap.clear();
     for (std::size_t k = 0; k < others.size(); ++k) byGap.emplace_back(boxGap(box, cw.worldBounds(others[k])), k);
     std::sort(byGap.begin(), byGap.end());
     ClearanceStep step;

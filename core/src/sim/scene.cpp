@@ -1,62 +1,10 @@
 #include "vaw/sim/scene.hpp"
 
-#include <cstdio>
-
-#include "vaw/hash.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace vaw::sim {
 
-namespace {
-
-std::uint64_t add(std::uint64_t h, double v) { return fnv1a(&v, sizeof v, h); }
-std::uint64_t add(std::uint64_t h, const Eigen::Vector3d& v) { return fnv1a(v.data(), sizeof(double) * 3, h); }
-std::uint64_t add(std::uint64_t h, const Eigen::Matrix3d& m) { return fnv1a(m.data(), sizeof(double) * 9, h); }
-std::uint64_t add(std::uint64_t h, const Eigen::Isometry3d& p) { return fnv1a(p.matrix().data(), sizeof(double) * 16, h); }
-std::uint64_t add(std::uint64_t h, std::string_view s) {
-  const std::size_t n = s.size();
-  return fnv1a(s, fnv1a(&n, sizeof n, h));
-}
-std::uint64_t add(std::uint64_t h, const TriMesh* m) {
-  if (m == nullptr) return add(h, std::string_view("no mesh"));
-  const std::size_t counts[2] = {m->vertices.size(), m->triangles.size()};
-  h = fnv1a(counts, sizeof counts, h);
-  for (const auto& v : m->vertices) h = add(h, v);
-  return fnv1a(m->triangles.data(), m->triangles.size() * sizeof(Eigen::Vector3i), h);
-}
-
-std::uint64_t hashOf(const Assembly& a) {
-  std::uint64_t h = kFnvOffset;
-  for (const auto& [name, m] : a.materials) {
-    h = add(add(add(add(h, name), m.staticFriction), m.kineticFriction), m.rotationalFriction);
-  }
-  for (const Part& p : a.parts) {
-    h = add(add(add(h, p.name), p.mesh.get()), p.pose);
-    h = p.finalPose ? add(h, *p.finalPose) : add(h, std::string_view("no final pose"));
-    h = add(add(add(add(h, p.material), p.mass.mass), p.mass.centerOfMass), p.mass.inertiaCm);
-    h = add(h, static_cast<double>(p.category.category));
-  }
-  for (const auto& [id, f] : a.settings.partFriction)
-    h = add(add(add(add(h, static_cast<double>(id)), f.staticFriction), f.kineticFriction), f.rotationalFriction);
-  h = add(h, a.base ? static_cast<double>(*a.base) : -1.0);
-  for (const EnvironmentObject& e : a.environment)
-    if (!e.implied) h = add(add(add(h, e.name), e.mesh.get()), e.pose);
-  for (const Constraint& c : a.constraints) {
-    h = add(add(h, static_cast<double>(c.type)), static_cast<double>(c.part));
-    if (c.partner) h = add(h, static_cast<double>(*c.partner));
-    // Only the geometry of the constraint's type: the other members are never set (nor read).
-    if (c.type == Constraint::Type::Insert) {
-      for (const Axis* ax : {&c.partAxis, &c.baseAxis}) h = add(add(h, ax->point), ax->direction);
-    } else {
-      for (const Plane* pl : {&c.partPlane, &c.basePlane}) h = add(add(h, pl->point), pl->normal);
-      h = add(h, c.offset);
-    }
-  }
-  return h;
-}
-
-}  // namespace
 
 void addDefaultFloor(Assembly& a) {
   for (const EnvironmentObject& e : a.environment)
@@ -88,11 +36,6 @@ void addDefaultFloor(Assembly& a) {
   a.tree.children.push_back(std::move(node));
 }
 
-std::string hashText(std::uint64_t hash) {
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash));
-  return buf;
-}
 
 Scene::Scene(Assembly assembly, collision::CollisionWorld collision)
     : assembly_(std::move(assembly)), collision_(std::move(collision)) {}
@@ -112,7 +55,7 @@ std::shared_ptr<const Scene> Scene::build(Assembly assembly, const ProgressFn& p
     scene->supports_.push_back(scene->collision_.support(constraints[c], false));
   }
   scene->prepared_ = std::make_unique<std::once_flag[]>(constraints.size());
-  scene->hash_ = hashOf(scene->assembly_);
+  scene->hash_ = vaw::contentHash(scene->assembly_);
   if (progress) progress(1.0, "scene ready");
   return scene;
 }

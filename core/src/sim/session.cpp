@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "../json_node.hpp"
+#include "vaw/hash.hpp"
 #include "vaw/atomic_file.hpp"
 #include "vaw/dynamics/hinge.hpp"
 #include "vaw/limits.hpp"

@@ -57,7 +57,4 @@ class Scene {
   std::uint64_t hash_ = 0;
 };
 
-// The content hash as text (16 hex digits), as sessions store it.
-std::string hashText(std::uint64_t hash);
-
 }  // namespace vaw::sim
