@@ -1,0 +1,64 @@
+#pragma once
+// The space a carried part's path needs (docs/swept-volume.md): the union of the part's poses along a span
+// of a recording, voxelised so that the result contains the whole path (every pose between the recorded
+// steps too), with a closed surface mesh for display and export. The voxels are the answer; the mesh is
+// their outer surface, so its volume is exactly theirs.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "vaw/mesh.hpp"
+#include "vaw/sim/session.hpp"
+
+namespace vaw::sim {
+
+class Scene;
+
+struct SweptVolume {
+  TriMesh mesh;             // the outer surface of the voxels, in the assembly frame (m), closed, outward
+  double voxel = 0.0;       // m, the voxels' edge
+  double volume = 0.0;      // m^3, the voxels' (and the mesh's)
+  std::size_t voxels = 0;   // occupied
+  std::size_t moves = 0;    // swept whole: from pose to pose, split where the part turns far
+  bool relativeToBase = false;
+  double from = 0.0, to = 0.0;  // s: the first and last step swept (0 for a path given as poses)
+
+  // Is `p` (assembly frame, m) in an occupied voxel.
+  [[nodiscard]] bool contains(const Eigen::Vector3d& p) const;
+
+  // The grid: voxel (i, j, k) spans frame * (origin + voxel * [i, i+1] x [j, j+1] x [k, k+1]). Rows along
+  // i are padded to whole 64-bit words.
+  Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3i dims = Eigen::Vector3i::Zero();
+  std::vector<std::uint64_t> occupied;
+};
+
+// The most voxels a grid may hold (its bounding box's); more is an error that asks for a larger voxel.
+inline constexpr std::uint64_t kMaxSweepVoxels = std::uint64_t{1} << 32;
+// The most moves a path may be swept in (a move per recorded step, more where the part turns fast).
+inline constexpr std::uint64_t kMaxSweepMoves = 20'000'000;
+
+// Sweeps `mesh` (a closed mesh in its own frame) through each run of poses (mesh frame -> the result's
+// frame); within a run the part moves from pose to pose with its centre on a straight line and its
+// rotation turning the shortest way, and every pose in between is in the result. Throws std::invalid_argument for a voxel that is
+// not a positive finite length, no poses, a non-finite pose, or a grid over kMaxSweepVoxels or a path
+// of more than kMaxSweepMoves moves.
+SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel);
+
+struct SweptVolumeOptions {
+  double voxel = 0.001;             // m
+  bool relativeToBase = false;      // the path in the base's frame, placed where the base is at the first step
+  std::optional<double> from, to;   // s: the span; unset: every step the part is INHAND or ONTOOL
+};
+
+// Replays `session` on `scene` and sweeps the part through the span. Throws vaw::InputError (naming the
+// session file and the field) when the span holds no step, the voxel is not a positive length, the grid
+// would be too large, or relativeToBase is asked for a scene without a base or for the base itself.
+SweptVolume sweptVolume(const std::shared_ptr<const Scene>& scene, const Session& session, PartId part,
+                        const SweptVolumeOptions& options = {});
+
+}  // namespace vaw::sim
