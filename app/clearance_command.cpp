@@ -1,8 +1,9 @@
 // `vaw-sim clearance SESSION --part NAME --out DIR`: replays a recorded session and writes how close the
 // part's path came to everything else (docs/clearance.md): DIR/clearance.csv, the nearest object at every
 // step of the span, and DIR/summary.json, each object's least clearance and the spans of near misses,
-// contacts and interference. Both are written whole beside their targets and renamed into place together
-// under the output folder's lock, as `vaw-sim run` does.
+// contacts and interference. `vaw-sim sweep` writes the same and the volume the path swept
+// (docs/swept-volume.md): DIR/swept.stl. All are written whole beside their targets and renamed into place
+// together under the output folder's lock, as `vaw-sim run` does.
 #include "clearance_command.hpp"
 
 #include <cstdio>
@@ -16,11 +17,13 @@
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
 #include "vaw/importer.hpp"
+#include "vaw/mesh_export.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/clearance.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/session.hpp"
+#include "vaw/sim/swept_volume.hpp"
 
 namespace vaw::app {
 
@@ -34,62 +37,114 @@ std::string mm(double metres) {
 
 nlohmann::json pointMm(const Eigen::Vector3d& p) { return {1e3 * p.x(), 1e3 * p.y(), 1e3 * p.z()}; }
 
+// The session and the scene it was recorded on, the part named, and the options as the core takes them.
+struct Recorded {
+  sim::Session session;
+  std::filesystem::path sceneFile;
+  std::shared_ptr<const sim::Scene> scene;
+  PartId part = 0;
+  sim::ClearanceOptions options;
+};
+
+Recorded load(const ClearanceArgs& args, const ImporterRegistry& importers) {
+  Recorded r;
+  r.session = sim::loadSession(args.session);
+  // The scene as recorded: as given, else beside the session file.
+  r.sceneFile = resolveScenePath(r.session.scene);
+  std::error_code ec;
+  if (!std::filesystem::exists(r.sceneFile, ec) && std::filesystem::path(r.session.scene).is_relative())
+    r.sceneFile = std::filesystem::path(args.session).parent_path() / r.session.scene;
+  r.scene = sim::Scene::build(loadAny(r.sceneFile, importers));
+  sim::checkScene(r.session, *r.scene);
+  const auto part = r.scene->assembly().findPart(args.part);
+  if (!part) fail(args.session, "part", "the name of a part of " + r.sceneFile.string(), "\"" + args.part + "\"");
+  r.part = *part;
+  r.options.threshold = 1e-3 * args.thresholdMm;
+  r.options.reach = 1e-3 * args.reachMm;
+  r.options.from = args.from;
+  r.options.to = args.to;
+  return r;
+}
+
+std::filesystem::path outputDir(const std::string& out) {
+  const std::filesystem::path dir(out);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec))
+    throw OutputError("cannot create the output directory " + dir.string() + ": " + (ec ? ec.message() : std::string("something else is there")));
+  return dir;
+}
+
+// clearance.csv: the nearest object at every step.
+void writeSteps(AtomicFile& csv, const sim::ClearanceReport& r, const sim::Scene& scene) {
+  csv << "t,nearest,distance_mm,interfering,part_x_mm,part_y_mm,part_z_mm,other_x_mm,other_y_mm,other_z_mm\n";
+  for (const auto& s : r.steps) {
+    char t[32];
+    std::snprintf(t, sizeof t, "%.6f", s.t);
+    csv << t << "," << scene.collision().info(s.nearest).name << "," << mm(s.distance) << (s.interfering ? ",1" : ",0");
+    for (const Eigen::Vector3d* p : {&s.onPart, &s.onOther})
+      for (int i = 0; i < 3; ++i) csv << "," << mm((*p)[i]);
+    csv << "\n";
+  }
+  csv.finish();
+}
+
+// The summary's clearance: each object's least clearance and the spans.
+void addClearance(nlohmann::json& j, const sim::ClearanceReport& r, const ClearanceArgs& args) {
+  j["threshold_mm"] = args.thresholdMm;
+  j["reach_mm"] = args.reachMm;
+  j["steps"] = r.steps.size();
+  j["from"] = r.steps.front().t;
+  j["to"] = r.steps.back().t;
+  j["objects"] = nlohmann::json::array();
+  for (const auto& o : r.objects)
+    j["objects"].push_back({{"name", o.name}, {"least_mm", 1e3 * o.least}, {"t", o.t}, {"on_part_mm", pointMm(o.onPart)}, {"on_other_mm", pointMm(o.onOther)}});
+  j["spans"] = nlohmann::json::array();
+  for (const auto& s : r.spans)
+    j["spans"].push_back({{"kind", std::string(sim::name(s.kind))}, {"object", s.name}, {"from", s.from}, {"to", s.to}});
+}
+
+void printClearance(const sim::ClearanceReport& r, const std::string& part, const ClearanceArgs& args) {
+  std::printf("%s over %zu steps (t %.4f to %.4f s):", part.c_str(), r.steps.size(), r.steps.front().t, r.steps.back().t);
+  if (r.objects.empty()) std::printf(" nothing within %g mm\n", args.reachMm);
+  else std::printf(" nearest %s, %.3f mm at t = %.4f s\n", r.objects.front().name.c_str(), 1e3 * r.objects.front().least, r.objects.front().t);
+  for (const auto& s : r.spans) std::printf("  %-12s %-16s t %.4f to %.4f s\n", std::string(sim::name(s.kind)).c_str(), s.name.c_str(), s.from, s.to);
+}
+
+// Runs a command body, reporting bad input and unwritable output as `run` does.
+template <typename Body>
+int reporting(Body&& body) {
+  try {
+    return body();
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
+    return 1;
+  } catch (const OutputError& e) {
+    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
+    return 1;
+  }
+}
+
+void loadPlugins(ImporterRegistry& importers) {
+  for (const auto& dir : ImporterRegistry::defaultPluginDirs())
+    for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());
+}
+
 }  // namespace
 
 int clearance(const ClearanceArgs& args) {
   ImporterRegistry importers;
-  for (const auto& dir : ImporterRegistry::defaultPluginDirs())
-    for (const auto& problem : importers.loadPlugins(dir)) std::fprintf(stderr, "vaw-sim: plugin: %s\n", problem.c_str());
-  try {
-    const sim::Session session = sim::loadSession(args.session);
-    // The scene as recorded: as given, else beside the session file.
-    std::filesystem::path sceneFile = resolveScenePath(session.scene);
-    std::error_code ec;
-    if (!std::filesystem::exists(sceneFile, ec) && std::filesystem::path(session.scene).is_relative())
-      sceneFile = std::filesystem::path(args.session).parent_path() / session.scene;
-    const auto scene = sim::Scene::build(loadAny(sceneFile, importers));
-    sim::checkScene(session, *scene);
-    const auto part = scene->assembly().findPart(args.part);
-    if (!part) fail(args.session, "part", "the name of a part of " + sceneFile.string(), "\"" + args.part + "\"");
-    sim::ClearanceOptions options;
-    options.threshold = 1e-3 * args.thresholdMm;
-    options.reach = 1e-3 * args.reachMm;
-    options.from = args.from;
-    options.to = args.to;
-    const sim::ClearanceReport r = sim::clearanceAlong(scene, session, *part, options);
-    const Assembly& a = scene->assembly();
-    const auto objectName = [&](const collision::ObjectId& id) {
-      return scene->collision().info(id).name;
-    };
-
-    const std::filesystem::path dir(args.out);
-    std::filesystem::create_directories(dir, ec);
-    if (ec || !std::filesystem::is_directory(dir, ec))
-      throw OutputError("cannot create the output directory " + dir.string() + ": " + (ec ? ec.message() : std::string("something else is there")));
+  loadPlugins(importers);
+  return reporting([&] {
+    const Recorded rec = load(args, importers);
+    const sim::ClearanceReport r = sim::clearanceAlong(rec.scene, rec.session, rec.part, rec.options);
+    const std::string& partName = rec.scene->assembly().parts[rec.part].name;
+    const std::filesystem::path dir = outputDir(args.out);
     AtomicFile csv(dir / "clearance.csv");
-    csv << "t,nearest,distance_mm,interfering,part_x_mm,part_y_mm,part_z_mm,other_x_mm,other_y_mm,other_z_mm\n";
-    for (const auto& s : r.steps) {
-      char t[32];
-      std::snprintf(t, sizeof t, "%.6f", s.t);
-      csv << t << "," << objectName(s.nearest) << "," << mm(s.distance) << (s.interfering ? ",1" : ",0");
-      for (const Eigen::Vector3d* p : {&s.onPart, &s.onOther})
-        for (int i = 0; i < 3; ++i) csv << "," << mm((*p)[i]);
-      csv << "\n";
-    }
-    csv.finish();
+    writeSteps(csv, r, *rec.scene);
     nlohmann::json j;
-    j["part"] = a.parts[*part].name;
-    j["threshold_mm"] = args.thresholdMm;
-    j["reach_mm"] = args.reachMm;
-    j["steps"] = r.steps.size();
-    j["from"] = r.steps.front().t;
-    j["to"] = r.steps.back().t;
-    j["objects"] = nlohmann::json::array();
-    for (const auto& o : r.objects)
-      j["objects"].push_back({{"name", o.name}, {"least_mm", 1e3 * o.least}, {"t", o.t}, {"on_part_mm", pointMm(o.onPart)}, {"on_other_mm", pointMm(o.onOther)}});
-    j["spans"] = nlohmann::json::array();
-    for (const auto& s : r.spans)
-      j["spans"].push_back({{"kind", std::string(sim::name(s.kind))}, {"object", s.name}, {"from", s.from}, {"to", s.to}});
+    j["part"] = partName;
+    addClearance(j, r, args);
     AtomicFile summary(dir / "summary.json");
     summary << j.dump(2) << "\n";
     summary.finish();
@@ -98,19 +153,68 @@ int clearance(const ClearanceArgs& args) {
       csv.publish();
       summary.publish();
     }
-    std::printf("%s over %zu steps (t %.4f to %.4f s):", a.parts[*part].name.c_str(), r.steps.size(), r.steps.front().t, r.steps.back().t);
-    if (r.objects.empty()) std::printf(" nothing within %g mm\n", args.reachMm);
-    else std::printf(" nearest %s, %.3f mm at t = %.4f s\n", r.objects.front().name.c_str(), 1e3 * r.objects.front().least, r.objects.front().t);
-    for (const auto& s : r.spans) std::printf("  %-12s %-16s t %.4f to %.4f s\n", std::string(sim::name(s.kind)).c_str(), s.name.c_str(), s.from, s.to);
+    printClearance(r, partName, args);
     std::printf("wrote %s, %s\n", (dir / "clearance.csv").c_str(), (dir / "summary.json").c_str());
     return 0;
-  } catch (const InputError& e) {
-    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
-    return 1;
-  } catch (const OutputError& e) {
-    std::fprintf(stderr, "vaw-sim: error: %s\n", e.what());
-    return 1;
-  }
+  });
+}
+
+int sweep(const SweepArgs& args) {
+  ImporterRegistry importers;
+  loadPlugins(importers);
+  return reporting([&] {
+    const Recorded rec = load(args.clearance, importers);
+    const Assembly& a = rec.scene->assembly();
+    sim::SweptVolumeOptions so;
+    so.voxel = 1e-3 * args.voxelMm;
+    so.relativeToBase = args.relativeToBase;
+    so.from = args.clearance.from;
+    so.to = args.clearance.to;
+    const sim::SweptVolume sv = sim::sweptVolume(rec.scene, rec.session, rec.part, so);
+    const sim::ClearanceReport r = sim::clearanceAlong(rec.scene, rec.session, rec.part, rec.options);
+    const std::string& partName = a.parts[rec.part].name;
+    const std::filesystem::path dir = outputDir(args.clearance.out);
+
+    // The STL in the assembly's own unit and frame, so that a CAD system places it where it belongs.
+    const double perMetre = 1.0 / toMetres(a.units);
+    AtomicFile stl(dir / "swept.stl");
+    stl << binaryStl(sv.mesh, perMetre, "vaw swept volume of " + partName + ", " + std::string(name(a.units)));
+    stl.finish();
+    AtomicFile csv(dir / "clearance.csv");
+    writeSteps(csv, r, *rec.scene);
+    nlohmann::json j;
+    j["part"] = partName;
+    const Eigen::AlignedBox3d bounds = sv.mesh.bounds();
+    j["swept"] = {{"voxel_mm", args.voxelMm},
+                  {"relative_to_base", sv.relativeToBase},
+                  {"base", sv.relativeToBase ? a.parts[*a.base].name : std::string()},
+                  {"from", sv.from},
+                  {"to", sv.to},
+                  {"moves", sv.moves},
+                  {"voxels", sv.voxels},
+                  {"volume_mm3", 1e9 * sv.volume},
+                  {"triangles", sv.mesh.triangles.size()},
+                  {"min_mm", pointMm(bounds.min())},
+                  {"max_mm", pointMm(bounds.max())},
+                  {"stl_unit", std::string(name(a.units))}};
+    nlohmann::json c;
+    addClearance(c, r, args.clearance);
+    j["clearance"] = c;
+    AtomicFile summary(dir / "summary.json");
+    summary << j.dump(2) << "\n";
+    summary.finish();
+    {
+      const DirectoryLock lock(dir);
+      stl.publish();
+      csv.publish();
+      summary.publish();
+    }
+    std::printf("%s swept %.1f cm^3 (%zu voxels of %g mm, %zu moves, t %.4f to %.4f s)%s\n", partName.c_str(), 1e6 * sv.volume,
+                sv.voxels, args.voxelMm, sv.moves, sv.from, sv.to, sv.relativeToBase ? (", on " + a.parts[*a.base].name).c_str() : "");
+    printClearance(r, partName, args.clearance);
+    std::printf("wrote %s, %s, %s\n", (dir / "swept.stl").c_str(), (dir / "clearance.csv").c_str(), (dir / "summary.json").c_str());
+    return 0;
+  });
 }
 
 }  // namespace vaw::app

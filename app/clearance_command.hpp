@@ -10,4 +10,13 @@ struct ClearanceArgs {
   double thresholdMm = 5.0, reachMm = 50.0;
 };
 int clearance(const ClearanceArgs& args);
+
+// `vaw-sim sweep SESSION --part NAME --out DIR`: the swept volume of the part's path and its clearance
+// (docs/swept-volume.md).
+struct SweepArgs {
+  ClearanceArgs clearance;
+  double voxelMm = 1.0;
+  bool relativeToBase = false;
+};
+int sweep(const SweepArgs& args);
 }  // namespace vaw::app

@@ -302,6 +302,22 @@ int dispatch(int argc, char** argv) {
   clCmd->add_option("--out", cl.out, "Output directory")->type_name("DIR")->required();
   clCmd->callback([&] { command = [&] { return vaw::app::clearance(cl); }; });
 
+  vaw::app::SweepArgs sw;
+  CLI::App* swCmd = app.add_subcommand(
+      "sweep", "The volume a part's carried path in a recorded session sweeps, voxelised so that it holds the whole path, "
+               "and the path's clearance (docs/swept-volume.md); write DIR/swept.stl (binary, in the scene's unit and frame), "
+               "DIR/clearance.csv and DIR/summary.json.");
+  swCmd->add_option("SESSION", sw.clearance.session, "Recorded session (.vaw-session.json)")->required();
+  swCmd->add_option("--part", sw.clearance.part, "The part whose path is swept")->required();
+  swCmd->add_option("--from", sw.clearance.from, "Start of the span, s (default: every step the part is INHAND or ONTOOL)");
+  swCmd->add_option("--to", sw.clearance.to, "End of the span, s");
+  swCmd->add_option("--voxel", sw.voxelMm, "Voxel edge, mm (default 1)")->check(CLI::Range(1e-3, 1e4));
+  swCmd->add_flag("--relative-to-base", sw.relativeToBase, "The path in the base's frame: the space it needs on a base that moves");
+  swCmd->add_option("--threshold", sw.clearance.thresholdMm, "Closer than this is a near miss, mm (default 5)")->check(CLI::Range(0.0, 1e6));
+  swCmd->add_option("--reach", sw.clearance.reachMm, "Objects never this close are left out of the table, mm (default 50)")->check(CLI::Range(0.0, 1e6));
+  swCmd->add_option("--out", sw.clearance.out, "Output directory")->type_name("DIR")->required();
+  swCmd->callback([&] { command = [&] { return vaw::app::sweep(sw); }; });
+
   vaw::app::EvaluateArgs ev;
   CLI::App* evCmd = app.add_subcommand(
       "evaluate", "Which order puts an assembly together (a scene, a STEP file or a mesh file): every part's ways home "

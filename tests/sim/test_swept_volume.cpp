@@ -12,7 +12,9 @@
 #include <numbers>
 
 #include "sim_test_support.hpp"
+#include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
+#include "vaw/mesh_export.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
@@ -196,6 +198,21 @@ TEST(SweptVolume, VoxelsMeetingAlongAnEdgeOrAtACornerGiveAManifold) {
   EXPECT_GT(sv.voxels, 3U);
   EXPECT_LE(sv.voxels, 3U + 2 * 8U);
   expectClosedAndWhole(sv);
+}
+
+TEST(SweptVolume, TheStlExportReadsBackAsOneSolidOfTheSameVolume) {
+  // The sphere's chain of capsules written in millimetres, read back through the workbench's own mesh
+  // reader (which refuses anything that is not a closed manifold solid).
+  const TriMesh ball = primitives::sphere(0.005, 32, 16);
+  const SweptVolume sv = sweep(ball, {{at(0, 0, 0), at(0.040, 0, 0), at(0.040, 0.040, 0.010)}}, 0.001);
+  const std::filesystem::path file = vaw::test::tempDir() / "swept.stl";
+  writeFileAtomically(file, binaryStl(sv.mesh, 1000.0, "vaw swept volume, mm"));
+  EXPECT_EQ(std::filesystem::file_size(file), 84 + 50 * sv.mesh.triangles.size());
+  const Assembly back = loadAny(file, vaw::test::importers());
+  ASSERT_EQ(back.parts.size(), 1U);
+  EXPECT_EQ(back.units, LengthUnit::Millimetre);
+  EXPECT_NEAR(enclosed(*back.parts[0].mesh), sv.volume, 1e-6 * sv.volume);
+  EXPECT_NEAR((back.parts[0].pose * back.parts[0].mesh->bounds().min() - sv.mesh.bounds().min()).norm(), 0.0, 1e-6);
 }
 
 TEST(SweptVolume, BadInputIsRefusedWithWhatWasExpected) {
