@@ -207,6 +207,19 @@ void answerFileDialog(QWidget* modal, const QString& path) {
                             5000);
 }
 
+void whenModal(std::function<void(QWidget*)> act) {
+  auto* timer = new QTimer;
+  timer->setInterval(50);
+  QObject::connect(timer, &QTimer::timeout, [timer, act = std::move(act)] {
+    if (QWidget* modal = QApplication::activeModalWidget()) {
+      timer->stop();
+      timer->deleteLater();
+      act(modal);
+    }
+  });
+  timer->start();
+}
+
 void shot(QMainWindow* window, QWidget* widget, const QString& name) {
   QTest::qWait(150);
   const QPixmap p = widget == window ? window->screen()->grabWindow(window->winId()) : widget->grab();

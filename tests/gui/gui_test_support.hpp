@@ -115,6 +115,8 @@ QMenu* openSceneTreeMenu(ui::MainWindow& window, PartId part);
 // Save (Open) button clicked. The field's completer is taken off first: its popup, when a loaded machine
 // shows it late, takes the key or the click meant for the dialog and leaves the dialog open for ever.
 void answerFileDialog(QWidget* modal, const QString& path);
+// Runs `act` on the next modal dialog once it shows (a message box, a file dialog).
+void whenModal(std::function<void(QWidget*)> act);
 
 QString shotPath(const QString& name);
 // Saves a screenshot of `widget` (the whole window as the screen shows it, when it is `window`).

@@ -53,20 +53,6 @@ constexpr int kSettle = 30000;
 
 QString sample() { return QFile::decodeName((vaw::resourceDir() / "step" / "bolted-bracket.stp").string().c_str()); }
 
-// Runs `act` on the next modal dialog once it shows.
-void whenModal(std::function<void(QWidget*)> act) {
-  auto* timer = new QTimer;
-  timer->setInterval(50);
-  QObject::connect(timer, &QTimer::timeout, [timer, act = std::move(act)] {
-    if (QWidget* modal = QApplication::activeModalWidget()) {
-      timer->stop();
-      timer->deleteLater();
-      act(modal);
-    }
-  });
-  timer->start();
-}
-
 QJsonObject readJson(const QString& file) {
   QFile f(file);
   if (!f.open(QIODevice::ReadOnly)) return {};
@@ -298,7 +284,7 @@ void TestConstraints::reviewUndoSaveAndReopen() {
   // File > Save As, through its dialog.
   saved_ = dir_.filePath(QStringLiteral("reviewed.vaw.json"));
   const QString target = saved_;
-  whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
+  vaw::guitest::whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
   vaw::guitest::pressKey(window_.get(), Qt::Key_S, Qt::ControlModifier | Qt::AltModifier);
   QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(saved_), kSettle);
   QVERIFY(!window_->hasUnsavedChanges());

@@ -24,6 +24,13 @@
 #include <optional>
 
 #include "gui_test_support.hpp"
+#include "vaw/ui/path_dock.hpp"
+#include <QLabel>
+#include <QPushButton>
+#include <QTableView>
+#include <QtCharts/QChartView>
+#include <QtCharts/QLineSeries>
+#include <QtCharts/QScatterSeries>
 #include "vaw/hash.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/sim/report.hpp"
@@ -95,6 +102,7 @@ class TestSimulation : public QObject {
   void shortMemoryGivesUpTheOldestSnapshotsNotTheProcess();
   void carriedNearItsMateThePartShowsTheCaptureZone();
   void fallingBehindIsShownWithTheRealRate();
+  void carriedPathShowsItsSweptVolumeAndClearance();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -779,6 +787,66 @@ void TestSimulation::fallingBehindIsShownWithTheRealRate() {
   vaw::guitest::typeInto(rate, QStringLiteral("90"));
   QTRY_VERIFY_WITH_TIMEOUT(!sim().isBehind(), 8000);
   QVERIFY2(window_->statusText().contains(QStringLiteral(" 1.0× ")), qPrintable(window_->statusText()));
+}
+
+// A carry recorded with the mouse, then in the Path panel as a person uses it: the voxel typed in, Sweep
+// clicked; the swept volume shows translucent in the viewport and holds the part where it started and
+// where it was let go; the clearance chart has a point per carried step, the table an object per row; a
+// larger near-miss threshold marks more steps; Export writes the STL through the file dialog.
+void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  const PartId sleeve = *assembly().findPart("sleeve");
+  // From where it waits, 130 mm over the table, carried aside and down to 20 mm over it.
+  const Eigen::Isometry3d start = world().part(sleeve).pose;
+  Eigen::Isometry3d lifted = start;
+  lifted.translation() += Eigen::Vector3d(-0.06, 0.04, -0.11);
+  vaw::guitest::carryWithMouse(*window_, sleeve, lifted, "sleeve");
+  if (QTest::currentTestFailed()) return;
+  QTRY_VERIFY_WITH_TIMEOUT(world().part(sleeve).state != PartState::InHand, 3000);
+  sim().pause();
+
+  vaw::ui::PathDock* path = window_->pathDock();
+  path->show();
+  path->raise();
+  viewport()->selectPart(sleeve);
+  QTRY_VERIFY_WITH_TIMEOUT(path->sweepButton()->isEnabled(), 2000);
+  vaw::guitest::typeInto(path->voxelBox(), QStringLiteral("2"));
+  QCOMPARE(path->voxelBox()->value(), 2.0);
+  QSignalSpy done(path, &vaw::ui::PathDock::finishedSweep);
+  QTest::mouseClick(path->sweepButton(), Qt::LeftButton);
+  QVERIFY(path->working());
+  QVERIFY(done.wait(60000));
+  QVERIFY2(path->swept() != nullptr, qPrintable(path->summary()->text()));
+  const vaw::sim::SweptVolume& sv = *path->swept();
+  const vaw::sim::ClearanceReport& cr = *path->clearance();
+  // It holds the sleeve's own volume, and the points of its mesh where the carry began.
+  QVERIFY(sv.volume > vaw::massPropertiesFromMesh(*assembly().parts[sleeve].mesh, 1.0).mass);
+  for (const Eigen::Vector3d& v : assembly().parts[sleeve].mesh->vertices) QVERIFY(sv.contains(start * v));
+  QVERIFY(viewport()->sweptVolumeShown());
+  QVERIFY2(path->summary()->text().contains(QStringLiteral("sleeve swept")), qPrintable(path->summary()->text()));
+  QCOMPARE(path->distanceSeries()->count(), static_cast<int>(cr.steps.size()));
+  QVERIFY(cr.steps.size() > 10);
+  QCOMPARE(path->table()->model()->rowCount(), static_cast<int>(cr.objects.size()));
+  QVERIFY2(!cr.objects.empty() && cr.objects.front().name == "table", "the carry ended close over the table");
+  const int nearAt5 = path->nearSeries()->count();
+  vaw::guitest::typeInto(path->thresholdBox(), QStringLiteral("60"));
+  QTRY_VERIFY_WITH_TIMEOUT(path->nearSeries()->count() > nearAt5, 2000);
+  lookFrom(start.translation() + Eigen::Vector3d(0.35, -0.45, 0.3), start.translation() + Eigen::Vector3d(-0.03, 0.02, 0.03));
+  screenshot(QStringLiteral("path-swept-volume.png"));
+  vaw::guitest::shot(window_.get(), path->chartView(), QStringLiteral("path-clearance-chart.png"));
+
+  // Export, as a person does: the button, the file dialog.
+  const QString target = keep_.filePath(QStringLiteral("sleeve-swept.stl"));
+  vaw::guitest::whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
+  QTest::mouseClick(path->exportButton(), Qt::LeftButton);
+  QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(target), 10000);
+  QCOMPARE(QFileInfo(target).size(), static_cast<qint64>(84 + 50 * sv.mesh.triangles.size()));
+
+  // The box off: the volume goes from the viewport; a new world clears the panel.
+  QTest::mouseClick(path->showBox(), Qt::LeftButton);
+  QVERIFY(!viewport()->sweptVolumeShown());
+  sim().reset();
+  QTRY_VERIFY_WITH_TIMEOUT(path->swept() == nullptr, 2000);
 }
 
 QTEST_MAIN(TestSimulation)

@@ -73,20 +73,6 @@ QString bundled(const QString& scene) {
   return QFile::decodeName((vaw::resourceDir() / "scenes").string().c_str()) + QLatin1Char('/') + scene;
 }
 
-// Runs `act` on the next modal dialog once it shows (a message box, a file dialog).
-void whenModal(std::function<void(QWidget*)> act) {
-  auto* timer = new QTimer;
-  timer->setInterval(50);
-  QObject::connect(timer, &QTimer::timeout, [timer, act = std::move(act)] {
-    if (QWidget* modal = QApplication::activeModalWidget()) {
-      timer->stop();
-      timer->deleteLater();
-      act(modal);
-    }
-  });
-  timer->start();
-}
-
 void clickButton(QWidget* box, QMessageBox::StandardButton which) {
   auto* mb = qobject_cast<QMessageBox*>(box);
   QVERIFY(mb != nullptr);
@@ -659,7 +645,7 @@ void TestTuning::savedSettingsReopenAndOldFilesOpen() {
   QVERIFY(window_->hasUnsavedChanges());
 
   const QString target = dir_.filePath(QStringLiteral("tuned.vaw.json"));
-  whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
+  vaw::guitest::whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
   press(Qt::Key_S, Qt::ControlModifier | Qt::AltModifier);  // File > Save As
   QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(target), kSettle);
   QVERIFY(!window_->hasUnsavedChanges());
@@ -697,7 +683,7 @@ void TestTuning::unsavedTuningIsAskedAbout() {
   QVERIFY(window_->hasUnsavedChanges());
   const QString current = controller_->currentPath();
   bool asked = false;
-  whenModal([&asked](QWidget* w) {
+  vaw::guitest::whenModal([&asked](QWidget* w) {
     asked = w->objectName() == QStringLiteral("unsavedChangesBox");
     clickButton(w, QMessageBox::Cancel);
   });
@@ -707,7 +693,7 @@ void TestTuning::unsavedTuningIsAskedAbout() {
   QCOMPARE(world().settings().gravity.freeFlight, 1.0);
 
   asked = false;
-  whenModal([&asked](QWidget* w) {
+  vaw::guitest::whenModal([&asked](QWidget* w) {
     asked = w->objectName() == QStringLiteral("unsavedChangesBox");
     clickButton(w, QMessageBox::Discard);
   });

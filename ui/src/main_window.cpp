@@ -14,6 +14,7 @@
 #include "vaw/ui/load_feedback.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/path_dock.hpp"
 #include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/trials_panel.hpp"
@@ -66,6 +67,7 @@ MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
 
   wireConstraints();
   wireSequence();
+  wirePath();
   wireXr();
   wireViewport();
   wireControls();
@@ -124,6 +126,9 @@ void MainWindow::createDocks() {
   sequenceDock_ = new SequenceDock(controller_, this);
   addDockWidget(Qt::BottomDockWidgetArea, sequenceDock_);
   tabifyDockWidget(constraintsDock_, sequenceDock_);
+  pathDock_ = new PathDock(*simulation_, *viewport_, this);
+  addDockWidget(Qt::BottomDockWidgetArea, pathDock_);
+  tabifyDockWidget(sequenceDock_, pathDock_);
   timelineDock_->raise();
   resizeDocks({sceneDock_, partDock_}, {220, 480}, Qt::Vertical);
   resizeDocks({sceneDock_, controlsDock_}, {380, 330}, Qt::Horizontal);

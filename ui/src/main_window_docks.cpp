@@ -19,6 +19,7 @@
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/path_dock.hpp"
 #include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/timeline.hpp"
@@ -234,6 +235,12 @@ void MainWindow::showViewportMenu(const QPoint& windowPos) {
   down->setToolTip(why);
   down->setStatusTip(why);
   menu->popup(viewport_->windowToGlobal(windowPos));
+}
+
+void MainWindow::wirePath() {
+  connect(viewport_, &Viewport::partSelected, pathDock_, &PathDock::setPart);
+  connect(simulation_, &SimulationController::started, pathDock_, &PathDock::clear);
+  connect(pathDock_, &PathDock::statusMessage, this, [this](const QString& text) { statusBar()->showMessage(text, 15000); });
 }
 
 void MainWindow::wireSequence() {

@@ -19,6 +19,7 @@
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/motion_chart.hpp"
+#include "vaw/ui/path_dock.hpp"
 #include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/trials_panel.hpp"
@@ -118,6 +119,7 @@ void MainWindow::createMenus() {
   view->addAction(trialsDock_->toggleViewAction());
   view->addAction(constraintsDock_->toggleViewAction());
   view->addAction(sequenceDock_->toggleViewAction());
+  view->addAction(pathDock_->toggleViewAction());
 
   QMenu* help = menuBar()->addMenu(tr("&Help"));
   QAction* bindings = help->addAction(tr("Mouse and &Keys"), this, &MainWindow::showBindings);

@@ -4,6 +4,7 @@
 #include <Qt3DCore/QTransform>
 #include <Qt3DExtras/QCylinderMesh>
 #include <Qt3DExtras/QForwardRenderer>
+#include <Qt3DExtras/QPhongAlphaMaterial>
 #include <Qt3DExtras/QPhongMaterial>
 #include <Qt3DExtras/QSphereMesh>
 #include <Qt3DExtras/QTorusMesh>
@@ -185,6 +186,8 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
   for (auto& line : constraintLines_) line = Overlay{};
   captureRing_ = captureLine_ = Overlay{};
   captureShown_.reset();
+  swept_ = nullptr;
+  sweptMesh_.reset();
   sceneRoot_ = new Qt3DCore::QEntity(root_);
   partsBounds_.setEmpty();
   allBounds_.setEmpty();
@@ -407,6 +410,22 @@ void Viewport::placeConstraint() {
     if (k < constraintSegments_.size()) placeLine(constraintLines_[k], constraintSegments_[k].first, constraintSegments_[k].second, 0.8 * r);
     else hide(constraintLines_[k]);
   }
+}
+
+void Viewport::showSweptVolume(std::shared_ptr<const vaw::view::MeshBuffer> mesh) {
+  delete swept_;
+  swept_ = nullptr;
+  sweptMesh_ = std::move(mesh);
+  if (!sweptMesh_ || sceneRoot_ == nullptr) return;
+  swept_ = new Qt3DCore::QEntity(sceneRoot_);
+  swept_->setObjectName(QStringLiteral("sweptVolume"));
+  swept_->addComponent(makeRenderer(*sweptMesh_, swept_));
+  auto* material = new Qt3DExtras::QPhongAlphaMaterial(swept_);
+  material->setDiffuse(QColor(70, 140, 230));
+  material->setAmbient(QColor(40, 80, 140));
+  material->setSpecular(QColor(20, 20, 20));
+  material->setAlpha(0.3f);
+  swept_->addComponent(material);
 }
 
 void Viewport::showCaptureZone(const std::optional<CaptureZone>& zone) {

@@ -43,6 +43,7 @@ class WorkPrecisionDock;
 class TrialsDock;
 class ConstraintsDock;
 class SequenceDock;
+class PathDock;
 class XrController;
 
 class MainWindow : public QMainWindow {
@@ -66,6 +67,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] TrialsDock* trialsDock() const { return trialsDock_; }
   [[nodiscard]] ConstraintsDock* constraintsDock() const { return constraintsDock_; }
   [[nodiscard]] SequenceDock* sequenceDock() const { return sequenceDock_; }
+  [[nodiscard]] PathDock* pathDock() const { return pathDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
   [[nodiscard]] QString stabilityWarning() const;
@@ -141,6 +143,7 @@ class MainWindow : public QMainWindow {
   // The viewport's right-click menu: "Put this face down" on a flat face of a CAD assembly's base.
   void showViewportMenu(const QPoint& windowPos);
   void wireSequence();
+  void wirePath();
   // Writes the report with the order found; says where, or why not.
   void writeReport(const QString& dir);
   void wireXr();
@@ -195,6 +198,7 @@ class MainWindow : public QMainWindow {
   TrialsDock* trialsDock_ = nullptr;
   ConstraintsDock* constraintsDock_ = nullptr;
   SequenceDock* sequenceDock_ = nullptr;
+  PathDock* pathDock_ = nullptr;
   QString pendingReport_;  // the folder a report waits for the order to be written into
   // The report being written in the background: where, and what came of it.
   struct ReportOutcome {

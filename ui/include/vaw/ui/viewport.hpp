@@ -17,6 +17,7 @@
 #include <QPointF>
 #include <QSet>
 #include <QWidget>
+#include <memory>
 #include <optional>
 #include <vector>
 
@@ -117,6 +118,10 @@ class Viewport : public QWidget {
     bool captures = false;
   };
   void showCaptureZone(const std::optional<CaptureZone>& zone);
+  // The volume a part's path swept (the Path panel), in the world, drawn translucent so the parts show
+  // through; null hides it. A new scene hides it. Not picked: a click goes through it to the parts.
+  void showSweptVolume(std::shared_ptr<const vaw::view::MeshBuffer> mesh);
+  [[nodiscard]] bool sweptVolumeShown() const { return sweptMesh_ != nullptr; }
   [[nodiscard]] const std::optional<CaptureZone>& captureZone() const { return captureShown_; }
 
   void showConstraintGeometry(const ConstraintGeometry& geometry);
@@ -226,6 +231,8 @@ class Viewport : public QWidget {
   Overlay constraintLines_[kConstraintLines];
   Overlay captureRing_, captureLine_;
   std::optional<CaptureZone> captureShown_;
+  Qt3DCore::QEntity* swept_ = nullptr;                         // under sceneRoot_
+  std::shared_ptr<const vaw::view::MeshBuffer> sweptMesh_;  // Qt3D reads its bytes
   std::optional<ConstraintGeometry> constraintShown_;
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> constraintSegments_;
   std::size_t lastUpdates_ = 0;
