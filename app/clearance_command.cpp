@@ -2,8 +2,9 @@
 // part's path came to everything else (docs/clearance.md): DIR/clearance.csv, the nearest object at every
 // step of the span, and DIR/summary.json, each object's least clearance and the spans of near misses,
 // contacts and interference. `vaw-sim sweep` writes the same and the volume the path swept
-// (docs/swept-volume.md): DIR/swept.stl. All are written whole beside their targets and renamed into place
-// together under the output folder's lock, as `vaw-sim run` does.
+// (docs/swept-volume.md): DIR/swept.stl and, through the STEP plugin, DIR/swept.step. All are written
+// whole beside their targets and renamed into place together under the output folder's lock, as
+// `vaw-sim run` does.
 #include "clearance_command.hpp"
 
 #include <cstdio>
@@ -180,6 +181,11 @@ int sweep(const SweepArgs& args) {
     AtomicFile stl(dir / "swept.stl");
     stl << binaryStl(sv.mesh, perMetre, "vaw swept volume of " + partName + ", " + std::string(name(a.units)));
     stl.finish();
+    // And as a STEP solid, when the STEP plugin (which writes it) is installed.
+    const SolidExporter* step = importers.exporterFor("swept.step");
+    const std::filesystem::path stepNew = dir / ".swept.step.new";
+    if (step != nullptr) step->write(sv.mesh, partName + " swept", a.units, stepNew);
+    else std::fprintf(stderr, "vaw-sim: no swept.step: no STEP writer (the STEP plugin is not installed)\n");
     AtomicFile csv(dir / "clearance.csv");
     writeSteps(csv, r, *rec.scene);
     nlohmann::json j;
@@ -196,7 +202,8 @@ int sweep(const SweepArgs& args) {
                   {"triangles", sv.mesh.triangles.size()},
                   {"min_mm", pointMm(bounds.min())},
                   {"max_mm", pointMm(bounds.max())},
-                  {"stl_unit", std::string(name(a.units))}};
+                  {"unit", std::string(name(a.units))},
+                  {"step", step != nullptr}};
     nlohmann::json c;
     addClearance(c, r, args.clearance);
     j["clearance"] = c;
@@ -206,13 +213,19 @@ int sweep(const SweepArgs& args) {
     {
       const DirectoryLock lock(dir);
       stl.publish();
+      if (step != nullptr) {
+        std::error_code ec;
+        std::filesystem::rename(stepNew, dir / "swept.step", ec);
+        if (ec) throw OutputError((dir / "swept.step").string() + ": cannot put the written file in place: " + ec.message());
+      }
       csv.publish();
       summary.publish();
     }
     std::printf("%s swept %.1f cm^3 (%zu voxels of %g mm, %zu moves, t %.4f to %.4f s)%s\n", partName.c_str(), 1e6 * sv.volume,
                 sv.voxels, args.voxelMm, sv.moves, sv.from, sv.to, sv.relativeToBase ? (", on " + a.parts[*a.base].name).c_str() : "");
     printClearance(r, partName, args.clearance);
-    std::printf("wrote %s, %s, %s\n", (dir / "swept.stl").c_str(), (dir / "clearance.csv").c_str(), (dir / "summary.json").c_str());
+    std::printf("wrote %s,%s %s, %s\n", (dir / "swept.stl").c_str(), step != nullptr ? (" " + (dir / "swept.step").string() + ",").c_str() : "",
+                (dir / "clearance.csv").c_str(), (dir / "summary.json").c_str());
     return 0;
   });
 }

@@ -306,7 +306,7 @@ int dispatch(int argc, char** argv) {
   CLI::App* swCmd = app.add_subcommand(
       "sweep", "The volume a part's carried path in a recorded session sweeps, voxelised so that it holds the whole path, "
                "and the path's clearance (docs/swept-volume.md); write DIR/swept.stl (binary, in the scene's unit and frame), "
-               "DIR/clearance.csv and DIR/summary.json.");
+               "DIR/swept.step (a solid, through the STEP plugin), DIR/clearance.csv and DIR/summary.json.");
   swCmd->add_option("SESSION", sw.clearance.session, "Recorded session (.vaw-session.json)")->required();
   swCmd->add_option("--part", sw.clearance.part, "The part whose path is swept")->required();
   swCmd->add_option("--from", sw.clearance.from, "Start of the span, s (default: every step the part is INHAND or ONTOOL)");

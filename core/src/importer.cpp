@@ -62,6 +62,7 @@ ImporterRegistry::ImporterRegistry() = default;
 // Importers are destroyed before the libraries holding their code are unloaded.
 ImporterRegistry::~ImporterRegistry() {
   importers_.clear();
+  exporters_.clear();
   libraries_.clear();
 }
 
@@ -100,10 +101,23 @@ std::vector<std::string> ImporterRegistry::loadPlugins(const std::filesystem::pa
       problems.push_back(f.string() + ": plugin returned no importer");
       continue;
     }
+    if (auto exporter = reinterpret_cast<VawCreateExporterFn>(dlsym(lib->handle, "vaw_create_solid_exporter")))
+      if (std::unique_ptr<SolidExporter> e(exporter()); e) exporters_.push_back(std::move(e));
     libraries_.push_back(std::move(lib));
     importers_.push_back(std::move(imp));
   }
   return problems;
+}
+
+const SolidExporter* ImporterRegistry::exporterFor(const std::filesystem::path& file) const {
+  std::string ext = file.extension().string();
+  if (!ext.empty()) ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  for (const auto& e : exporters_) {
+    const auto exts = e->extensions();
+    if (std::find(exts.begin(), exts.end(), ext) != exts.end()) return e.get();
+  }
+  return nullptr;
 }
 
 const MeshImporter* ImporterRegistry::find(const std::filesystem::path& file) const {

@@ -27,7 +27,9 @@
 #include <vector>
 
 #include "vaw/error.hpp"
+#include "vaw/atomic_file.hpp"
 #include "vaw/importer.hpp"
+#include "vaw/mesh_export.hpp"
 #include "vaw/kept_results.hpp"
 
 #include "step_result_cache.hpp"
@@ -309,7 +311,51 @@ class StepImporter final : public vaw::MeshImporter {
   }
 };
 
+// Writes a solid through vaw-step-write, a child like the reader: the mesh goes to it as a binary STL in
+// the file's unit, the file comes back under a temporary name beside the target and is renamed over it, so a
+// failed write leaves what was there.
+class StepExporter final : public vaw::SolidExporter {
+ public:
+  [[nodiscard]] std::string name() const override { return "Open CASCADE STEP"; }
+  [[nodiscard]] std::vector<std::string> extensions() const override { return {"step", "stp"}; }
+  void write(const vaw::TriMesh& mesh, const std::string& solidName, vaw::LengthUnit unit, const std::filesystem::path& file) const override {
+    const std::filesystem::path writer = pluginDir() / "vaw-step-write";
+    if (access(writer.c_str(), X_OK) != 0) throw vaw::OutputError(file.string() + ": no STEP writer installed with the STEP plugin (" + writer.string() + ")");
+    TempDir tmp;
+    const std::filesystem::path stl = tmp.path() / "mesh.stl", errors = tmp.path() / "stderr.txt";
+    vaw::writeFileAtomically(stl, vaw::binaryStl(mesh, 1.0 / vaw::toMetres(unit), "vaw solid, " + std::string(vaw::name(unit))));
+    const std::filesystem::path part = file.parent_path() / ("." + file.filename().string() + ".writing");
+    std::vector<std::string> args = {writer.string(), stl.string(), "--out", part.string(), "--unit", std::string(vaw::name(unit)), "--name", solidName};
+    std::vector<char*> argv;
+    for (auto& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // Open CASCADE's statistics
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+    pid_t pid = 0;
+    const int spawned = posix_spawn(&pid, writer.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned != 0) throw vaw::OutputError(file.string() + ": cannot start " + writer.string() + ": " + std::strerror(spawned));
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    std::error_code ec;
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      std::filesystem::remove(part, ec);
+      const std::string why = WIFSIGNALED(status) ? "the STEP writer died of " + signalName(WTERMSIG(status)) : lastLine(errors);
+      throw vaw::OutputError(file.string() + ": not written: " + (why.empty() ? "the STEP writer failed" : why));
+    }
+    std::filesystem::rename(part, file, ec);
+    if (ec) {
+      std::filesystem::remove(part, ec);
+      throw vaw::OutputError(file.string() + ": cannot put the written file in place: " + ec.message());
+    }
+  }
+};
+
 }  // namespace
 
+extern "C" __attribute__((visibility("default"))) vaw::SolidExporter* vaw_create_solid_exporter() { return new StepExporter(); }
 extern "C" __attribute__((visibility("default"))) int vaw_plugin_abi_version() { return vaw::kImporterAbiVersion; }
 extern "C" __attribute__((visibility("default"))) vaw::MeshImporter* vaw_create_mesh_importer() { return new StepImporter(); }

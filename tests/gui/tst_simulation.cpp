@@ -33,6 +33,7 @@
 #include <QtCharts/QScatterSeries>
 #include "vaw/hash.hpp"
 #include "vaw/paths.hpp"
+#include "vaw/scene_loader.hpp"
 #include "vaw/sim/report.hpp"
 #include "vaw/sim/session.hpp"
 #include "vaw/ui/assembly_controller.hpp"
@@ -835,12 +836,24 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   screenshot(QStringLiteral("path-swept-volume.png"));
   vaw::guitest::shot(window_.get(), path->chartView(), QStringLiteral("path-clearance-chart.png"));
 
-  // Export, as a person does: the button, the file dialog.
+  // Export, as a person does: the button, the file dialog; an STL, then a STEP solid (through the STEP
+  // plugin, in the background) that the workbench reads back with the voxels' volume.
+  QSignalSpy exported(path, &vaw::ui::PathDock::exported);
   const QString target = keep_.filePath(QStringLiteral("sleeve-swept.stl"));
   vaw::guitest::whenModal([target](QWidget* w) { vaw::guitest::answerFileDialog(w, target); });
   QTest::mouseClick(path->exportButton(), Qt::LeftButton);
-  QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(target), 10000);
+  QVERIFY(exported.wait(30000));
+  QCOMPARE(exported.last().at(1).toString(), QString());
   QCOMPARE(QFileInfo(target).size(), static_cast<qint64>(84 + 50 * sv.mesh.triangles.size()));
+  const QString step = keep_.filePath(QStringLiteral("sleeve-swept.step"));
+  QTRY_VERIFY_WITH_TIMEOUT(path->exportButton()->isEnabled(), 5000);
+  vaw::guitest::whenModal([step](QWidget* w) { vaw::guitest::answerFileDialog(w, step); });
+  QTest::mouseClick(path->exportButton(), Qt::LeftButton);
+  QVERIFY(exported.wait(60000));
+  QCOMPARE(exported.last().at(1).toString(), QString());
+  const vaw::Assembly back = vaw::loadAny(step.toStdString(), controller_->importers());
+  QCOMPARE(back.parts.size(), std::size_t{1});
+  QVERIFY(std::abs(vaw::massPropertiesFromMesh(*back.parts[0].mesh, 1.0).mass - sv.volume) < 1e-6 * sv.volume);
 
   // The box off: the volume goes from the viewport; a new world clears the panel.
   QTest::mouseClick(path->showBox(), Qt::LeftButton);

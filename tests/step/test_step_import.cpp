@@ -17,6 +17,8 @@
 #include "vaw/importer.hpp"
 #include "vaw/mass_properties.hpp"
 #include "vaw/mesh.hpp"
+#include "vaw/primitives.hpp"
+#include "vaw/sim/swept_volume.hpp"
 
 namespace {
 
@@ -30,18 +32,24 @@ constexpr double kMm3 = 1e-9;
 
 // The STEP plugin alone, through the registry: assimp also lists .stp and .step (its IFC reader), so a
 // registry with every build plugin may not pick this one (RegistryPicksStepForStepFiles checks that).
-const vaw::MeshImporter& stepImporter() {
+const vaw::ImporterRegistry& stepPlugin() {
   static vaw::ImporterRegistry registry;
-  static const vaw::MeshImporter* importer = [] {
-    // Links, not copies: the plugin finds its reader next to the path it was loaded from.
+  static const bool loaded = [] {
+    // Links, not copies: the plugin finds its reader and writer next to the path it was loaded from.
     const fs::path dir = vaw::test::tempDir() / "plugins";
     fs::create_directories(dir);
-    for (const char* f : {"libvaw_import_step.so", "vaw-step-import"})
+    for (const char* f : {"libvaw_import_step.so", "vaw-step-import", "vaw-step-write"})
       fs::create_symlink(fs::path(VAW_BUILD_PLUGIN_DIR) / f, dir / f);
     const auto problems = registry.loadPlugins(dir);
     EXPECT_TRUE(problems.empty()) << problems.front();
-    return registry.find("x.stp");
+    return true;
   }();
+  (void)loaded;
+  return registry;
+}
+
+const vaw::MeshImporter& stepImporter() {
+  static const vaw::MeshImporter* importer = stepPlugin().find("x.stp");
   if (importer == nullptr) throw std::runtime_error("the STEP plugin did not load from " VAW_BUILD_PLUGIN_DIR);
   return *importer;
 }
@@ -605,6 +613,41 @@ TEST_F(StepImport, KeptReadsStayUnderTheSizeLimitLeastRecentlyUsedFirstOut) {
   (void)loadSeeing(file("bracket.stp"), options, seen);
   (void)loadSeeing(file("bracket.stp"), options, seen);
   EXPECT_TRUE(seen.has("tessellating"));
+}
+
+// A swept volume (docs/swept-volume.md) written as a STEP solid through the plugin's writer reads back
+// through its reader as one named solid with the voxels' volume, in place, in millimetres and in inches.
+TEST(StepExport, ASweptVolumeWrittenAsAStepSolidReadsBackWithItsVolume) {
+  const vaw::TriMesh ball = vaw::primitives::sphere(0.005, 32, 16);
+  Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), b = a, c = a;
+  a.translation() = Eigen::Vector3d(0.010, 0.020, 0.030);
+  b.translation() = Eigen::Vector3d(0.050, 0.020, 0.030);
+  c.translation() = Eigen::Vector3d(0.050, 0.060, 0.040);
+  const vaw::sim::SweptVolume sv = vaw::sim::sweep(ball, {{a, b, c}}, 0.001);
+  const vaw::SolidExporter* writer = stepPlugin().exporterFor("swept.STEP");
+  ASSERT_NE(writer, nullptr);
+  EXPECT_EQ(stepPlugin().exporterFor("swept.stl"), nullptr);
+  for (const auto unit : {vaw::LengthUnit::Millimetre, vaw::LengthUnit::Inch}) {
+    const fs::path out = vaw::test::tempDir() / ("swept-" + std::string(vaw::name(unit)) + ".step");
+    writer->write(sv.mesh, "ball swept", unit, out);
+    const ImportedMesh back = load(out);
+    EXPECT_EQ(back.declaredUnit, unit == vaw::LengthUnit::Inch ? std::optional<std::string>("inch") : std::optional<std::string>("millimetre"));
+    const auto all = instances(back);
+    ASSERT_EQ(all.size(), 1U);
+    const Instance& solid = all.begin()->second;
+    EXPECT_EQ(solid.solid->product, "ball swept");
+    EXPECT_NEAR(solid.solid->volume, sv.volume, 1e-6 * sv.volume);
+    const Eigen::AlignedBox3d box = solid.solid->mesh.bounds(), expected = sv.mesh.bounds();
+    EXPECT_NEAR((solid.world * box.min() - expected.min()).norm(), 0.0, 1e-6);
+    EXPECT_NEAR((solid.world * box.max() - expected.max()).norm(), 0.0, 1e-6);
+  }
+  // A folder that is not there: refused, naming the file.
+  try {
+    writer->write(sv.mesh, "ball swept", vaw::LengthUnit::Millimetre, vaw::test::tempDir() / "no-such-folder" / "swept.step");
+    FAIL() << "written into a folder that does not exist";
+  } catch (const vaw::OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such-folder/swept.step"), std::string::npos) << e.what();
+  }
 }
 
 // With every build plugin loaded, a .stp file must go to this plugin, not to assimp's IFC reader.

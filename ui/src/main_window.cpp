@@ -126,7 +126,7 @@ void MainWindow::createDocks() {
   sequenceDock_ = new SequenceDock(controller_, this);
   addDockWidget(Qt::BottomDockWidgetArea, sequenceDock_);
   tabifyDockWidget(constraintsDock_, sequenceDock_);
-  pathDock_ = new PathDock(*simulation_, *viewport_, this);
+  pathDock_ = new PathDock(*simulation_, *viewport_, controller_.importers(), this);
   addDockWidget(Qt::BottomDockWidgetArea, pathDock_);
   tabifyDockWidget(sequenceDock_, pathDock_);
   timelineDock_->raise();

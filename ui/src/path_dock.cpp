@@ -36,8 +36,8 @@ namespace {
 constexpr double kReach = 0.1;  // m: the table lists the objects the path came this close to
 }  // namespace
 
-PathDock::PathDock(SimulationController& simulation, Viewport& viewport, QWidget* parent)
-    : QDockWidget(tr("Path"), parent), simulation_(simulation), viewport_(viewport) {
+PathDock::PathDock(SimulationController& simulation, Viewport& viewport, const vaw::ImporterRegistry& plugins, QWidget* parent)
+    : QDockWidget(tr("Path"), parent), simulation_(simulation), viewport_(viewport), plugins_(plugins) {
   setObjectName(QStringLiteral("pathDock"));
   auto* body = new QWidget(this);
   auto* outer = new QVBoxLayout(body);
@@ -83,7 +83,8 @@ PathDock::PathDock(SimulationController& simulation, Viewport& viewport, QWidget
   sweep_->setObjectName(QStringLiteral("pathSweep"));
   sweep_->setToolTip(tr("The volume the part's carried path swept and its clearance, over the recording so far"));
   sweep_->setEnabled(false);
-  export_ = new QPushButton(tr("Export STL..."), body);
+  export_ = new QPushButton(tr("Export..."), body);
+  export_->setToolTip(tr("The swept volume as STL or as a STEP solid, in the scene's unit and frame"));
   export_->setObjectName(QStringLiteral("pathExport"));
   export_->setEnabled(false);
   buttons->addWidget(sweep_);
@@ -169,11 +170,22 @@ PathDock::PathDock(SimulationController& simulation, Viewport& viewport, QWidget
     simulation_.seek(simulation_.recorder().stepAt(t));
   });
   connect(&watcher_, &QFutureWatcher<Result>::finished, this, &PathDock::finished);
+  connect(&exportWatcher_, &QFutureWatcher<QString>::finished, this, [this] {
+    exporting_ = false;
+    busy_->setVisible(working_);
+    export_->setEnabled(result_.has_value());
+    const QString why = exportWatcher_.result();
+    emit statusMessage(why.isEmpty() ? tr("Swept volume written to %1").arg(exportFile_) : tr("Not exported: %1").arg(why));
+    if (!why.isEmpty()) summary_->setText(tr("Not exported: %1").arg(why));
+    emit exported(exportFile_, why);
+  });
 }
 
 PathDock::~PathDock() {
   watcher_.disconnect(this);
   watcher_.waitForFinished();
+  exportWatcher_.disconnect(this);
+  exportWatcher_.waitForFinished();
 }
 
 void PathDock::setPart(std::optional<vaw::PartId> part) {
@@ -235,7 +247,7 @@ void PathDock::sweep() {
 void PathDock::finished() {
   Result out = watcher_.result();
   working_ = false;
-  busy_->hide();
+  busy_->setVisible(exporting_);
   sweep_->setEnabled(part_.has_value());
   // A result for a world that has since been replaced (a new scene, a reset, a session) is dropped.
   if (out.generation != generation_) {
@@ -279,7 +291,7 @@ void PathDock::showResult() {
   if (interference > 0 || contact > 0) text += tr("; %1 interference and %2 contact spans").arg(interference).arg(contact);
   summary_->setText(text + QLatin1Char('.'));
   emit statusMessage(summary_->text());
-  export_->setEnabled(true);
+  export_->setEnabled(!exporting_);
   if (show_->isChecked()) viewport_.showSweptVolume(vaw::view::flatShaded(sv.mesh));
 
   QList<QPointF> points;
@@ -322,27 +334,44 @@ void PathDock::showThreshold() {
   near_->replace(close);
 }
 
-bool PathDock::exportStl(const QString& file) {
-  if (!result_) return false;
+void PathDock::exportVolume(const QString& file) {
+  if (!result_ || exporting_) return;
   const vaw::Assembly& a = result_->scene->assembly();
-  try {
-    vaw::writeFileAtomically(file.toStdString(),
-                             vaw::binaryStl(result_->swept.mesh, 1.0 / vaw::toMetres(a.units),
-                                            "vaw swept volume of " + a.parts[result_->part].name + ", " + std::string(vaw::name(a.units))));
-  } catch (const std::exception& e) {
-    summary_->setText(tr("Not exported: %1").arg(QString::fromStdString(e.what())));
-    emit statusMessage(summary_->text());
-    return false;
+  const std::string partName = a.parts[result_->part].name;
+  const std::filesystem::path target = file.toStdString();
+  const vaw::SolidExporter* step = QFileInfo(file).suffix().compare(QStringLiteral("stl"), Qt::CaseInsensitive) == 0
+                                       ? nullptr
+                                       : plugins_.exporterFor(target);
+  if (step == nullptr && QFileInfo(file).suffix().compare(QStringLiteral("stl"), Qt::CaseInsensitive) != 0) {
+    const QString why = tr("%1: vaw writes .stl, and .step or .stp with the STEP plugin installed").arg(file);
+    summary_->setText(tr("Not exported: %1").arg(why));
+    emit exported(file, why);
+    return;
   }
-  emit statusMessage(tr("Swept volume written to %1 (%2, the scene's frame)").arg(file, QString::fromUtf8(vaw::name(a.units).data())));
-  return true;
+  exporting_ = true;
+  exportFile_ = file;
+  export_->setEnabled(false);
+  busy_->show();
+  emit statusMessage(tr("Writing %1...").arg(file));
+  // The worker takes its own copy of the mesh: a new sweep may replace the result meanwhile.
+  exportWatcher_.setFuture(QtConcurrent::run([mesh = result_->swept.mesh, units = a.units, partName, target, step]() -> QString {
+    try {
+      if (step != nullptr) step->write(mesh, partName + " swept", units, target);
+      else vaw::writeFileAtomically(target, vaw::binaryStl(mesh, 1.0 / vaw::toMetres(units), "vaw swept volume of " + partName + ", " + std::string(vaw::name(units))));
+    } catch (const std::exception& e) {
+      return QString::fromStdString(e.what());
+    }
+    return {};
+  }));
 }
 
 void PathDock::askExport() {
   if (!result_) return;
+  QString filters = tr("STL (*.stl)");
+  if (plugins_.exporterFor("x.step") != nullptr) filters += tr(";;STEP solid (*.step *.stp)");
   const QString name = QString::fromStdString(result_->scene->assembly().parts[result_->part].name) + QStringLiteral("-swept.stl");
-  const QString file = QFileDialog::getSaveFileName(this, tr("Export the swept volume as STL"), name, tr("STL (*.stl)"));
-  if (!file.isEmpty()) exportStl(file);
+  const QString file = QFileDialog::getSaveFileName(this, tr("Export the swept volume"), name, filters);
+  if (!file.isEmpty()) exportVolume(file);
 }
 
 }  // namespace vaw::ui

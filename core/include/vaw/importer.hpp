@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "vaw/mesh.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw {
 
@@ -116,6 +117,19 @@ class MeshImporter {
                                           const ProgressFn& progress) const = 0;
 };
 
+// Writes a closed mesh as a solid in a format only a plugin can write (STEP, through the STEP plugin): the
+// swept volume of a path for a CAD system (docs/swept-volume.md).
+class SolidExporter {
+ public:
+  virtual ~SolidExporter() = default;
+  [[nodiscard]] virtual std::string name() const = 0;
+  // Lower-case extensions without the dot.
+  [[nodiscard]] virtual std::vector<std::string> extensions() const = 0;
+  // Writes `mesh` (metres; a closed, outward-facing manifold) as one solid named `solidName` to `file`,
+  // lengths in `unit`. Throws vaw::OutputError saying why when it cannot.
+  virtual void write(const TriMesh& mesh, const std::string& solidName, LengthUnit unit, const std::filesystem::path& file) const = 0;
+};
+
 // A plugin exports these two C symbols. The ABI version guards against loading a plugin built
 // against a different interface.
 // 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit; 5: the results kept
@@ -123,6 +137,8 @@ inline constexpr int kImporterAbiVersion = 5;
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();
+// Optional: a plugin that also writes exports vaw_create_solid_exporter.
+using VawCreateExporterFn = vaw::SolidExporter* (*)();
 }
 
 class ImporterRegistry {
@@ -138,6 +154,8 @@ class ImporterRegistry {
   void add(std::unique_ptr<MeshImporter> importer);
 
   [[nodiscard]] const MeshImporter* find(const std::filesystem::path& file) const;
+  // The exporter that writes `file`'s extension, or null.
+  [[nodiscard]] const SolidExporter* exporterFor(const std::filesystem::path& file) const;
   [[nodiscard]] std::vector<std::string> extensions() const;
   [[nodiscard]] std::vector<std::string> importerNames() const;
 
@@ -148,6 +166,7 @@ class ImporterRegistry {
   struct Library;
   std::vector<std::unique_ptr<Library>> libraries_;
   std::vector<std::unique_ptr<MeshImporter>> importers_;
+  std::vector<std::unique_ptr<SolidExporter>> exporters_;
 };
 
 }  // namespace vaw

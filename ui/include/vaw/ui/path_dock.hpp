@@ -3,8 +3,8 @@
 // the recording (docs/swept-volume.md, docs/clearance.md). Sweep works in the background on a copy of the
 // session: the swept volume (drawn translucent in the viewport, its volume and voxel in the panel) and the
 // clearance at every step (charted over time with the near-miss threshold, and a table of the objects by
-// their least clearance; activating a row shows that moment on the timeline). Export writes the volume as
-// binary STL in the scene's unit and frame.
+// their least clearance; activating a row shows that moment on the timeline). Export writes the volume in
+// the scene's unit and frame: binary STL, or a STEP solid through the STEP plugin (in the background).
 #include <QDockWidget>
 #include <QFutureWatcher>
 #include <QString>
@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "vaw/assembly.hpp"
+#include "vaw/importer.hpp"
 #include "vaw/sim/clearance.hpp"
 #include "vaw/sim/swept_volume.hpp"
 
@@ -35,7 +36,7 @@ class Viewport;
 class PathDock : public QDockWidget {
   Q_OBJECT
  public:
-  PathDock(SimulationController& simulation, Viewport& viewport, QWidget* parent = nullptr);
+  PathDock(SimulationController& simulation, Viewport& viewport, const vaw::ImporterRegistry& plugins, QWidget* parent = nullptr);
   ~PathDock() override;
   PathDock(const PathDock&) = delete;
   PathDock& operator=(const PathDock&) = delete;
@@ -60,13 +61,16 @@ class PathDock : public QDockWidget {
   void setPart(std::optional<vaw::PartId> part);
   // Computes for the selected part over the recording so far.
   void sweep();
-  // Writes the swept volume as binary STL; false (with the reason in the panel) when it cannot.
-  bool exportStl(const QString& file);
+  // Writes the swept volume to `file`: binary STL (.stl), or a STEP solid (.step, .stp) when a plugin
+  // writes STEP, in the background. Emits exported(file, why): `why` empty when it was written.
+  void exportVolume(const QString& file);
+  [[nodiscard]] bool exporting() const { return exporting_; }
   // A new world (scene, reset, session): the last result no longer belongs to it.
   void clear();
 
  signals:
   void finishedSweep();
+  void exported(const QString& file, const QString& why);
   void statusMessage(const QString& text);
 
  private:
@@ -85,6 +89,10 @@ class PathDock : public QDockWidget {
 
   SimulationController& simulation_;
   Viewport& viewport_;
+  const vaw::ImporterRegistry& plugins_;
+  bool exporting_ = false;
+  QFutureWatcher<QString> exportWatcher_;  // the reason a write failed, empty when it did not
+  QString exportFile_;
   std::optional<vaw::PartId> part_;
   std::optional<Result> result_;
   bool working_ = false;
