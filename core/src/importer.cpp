@@ -109,25 +109,25 @@ std::vector<std::string> ImporterRegistry::loadPlugins(const std::filesystem::pa
   return problems;
 }
 
-const SolidExporter* ImporterRegistry::exporterFor(const std::filesystem::path& file) const {
+namespace {
+// Whether `file`'s extension, in lower case, is one of `extensions`.
+bool takes(const std::vector<std::string>& extensions, const std::filesystem::path& file) {
   std::string ext = file.extension().string();
   if (!ext.empty()) ext.erase(0, 1);
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const auto& e : exporters_) {
-    const auto exts = e->extensions();
-    if (std::find(exts.begin(), exts.end(), ext) != exts.end()) return e.get();
-  }
+  return std::find(extensions.begin(), extensions.end(), ext) != extensions.end();
+}
+}  // namespace
+
+const SolidExporter* ImporterRegistry::exporterFor(const std::filesystem::path& file) const {
+  for (const auto& e : exporters_)
+    if (takes(e->extensions(), file)) return e.get();
   return nullptr;
 }
 
 const MeshImporter* ImporterRegistry::find(const std::filesystem::path& file) const {
-  std::string ext = file.extension().string();
-  if (!ext.empty()) ext.erase(0, 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  for (const auto& imp : importers_) {
-    const auto exts = imp->extensions();
-    if (std::find(exts.begin(), exts.end(), ext) != exts.end() && imp->canRead(file)) return imp.get();
-  }
+  for (const auto& imp : importers_)
+    if (takes(imp->extensions(), file) && imp->canRead(file)) return imp.get();
   return nullptr;
 }
 
