@@ -825,6 +825,9 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   for (const Eigen::Vector3d& v : assembly().parts[sleeve].mesh->vertices) QVERIFY(sv.contains(start * v));
   QVERIFY(viewport()->sweptVolumeShown());
   QVERIFY2(path->summary()->text().contains(QStringLiteral("sleeve swept")), qPrintable(path->summary()->text()));
+  // The part panel has it too, with the voxel.
+  const QString row = window_->partDock()->model()->value(QStringLiteral("Swept volume"));
+  QVERIFY2(row.contains(QStringLiteral("cm³, voxel 2 mm")), qPrintable(row));
   QCOMPARE(path->distanceSeries()->count(), static_cast<int>(cr.steps.size()));
   QVERIFY(cr.steps.size() > 10);
   QCOMPARE(path->table()->model()->rowCount(), static_cast<int>(cr.objects.size()));
@@ -860,6 +863,7 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   QVERIFY(!viewport()->sweptVolumeShown());
   sim().reset();
   QTRY_VERIFY_WITH_TIMEOUT(path->swept() == nullptr, 2000);
+  QVERIFY(window_->partDock()->model()->value(QStringLiteral("Swept volume")).isEmpty());
 }
 
 QTEST_MAIN(TestSimulation)

@@ -17,6 +17,7 @@
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
+#include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
 #include "vaw/ui/path_dock.hpp"
@@ -64,6 +65,7 @@ void MainWindow::showSelection(std::optional<vaw::PartId> part) {
   const vaw::Assembly* assembly = controller_.assembly();
   simulation_->setSelected(part);
   partDock_->showPart(assembly, part, controller_.collisionInfo());
+  showSwept();
   if (assembly != nullptr && part && *part < assembly->parts.size()) {
     selectedName_ = assembly->parts[*part].name;
     selectedFrom_ = controller_.currentPath();
@@ -237,8 +239,22 @@ void MainWindow::showViewportMenu(const QPoint& windowPos) {
   menu->popup(viewport_->windowToGlobal(windowPos));
 }
 
+void MainWindow::showSwept() {
+  const auto shown = partDock_->model()->part();
+  const vaw::sim::SweptVolume* sv = pathDock_->swept();
+  if (sv == nullptr || !shown || pathDock_->resultPart() != shown) {
+    partDock_->model()->setSwept({});
+    return;
+  }
+  partDock_->model()->setSwept(tr("%1 cm³, voxel %2 mm%3").arg(1e6 * sv->volume, 0, 'f', 1).arg(1e3 * sv->voxel, 0, 'g', 3)
+                                   .arg(sv->relativeToBase ? tr(", on the base") : QString()),
+                               tr("The volume its carried path swept from %1 to %2 s (View > Path)").arg(sv->from, 0, 'f', 2).arg(sv->to, 0, 'f', 2));
+}
+
 void MainWindow::wirePath() {
   connect(viewport_, &Viewport::partSelected, pathDock_, &PathDock::setPart);
+  connect(pathDock_, &PathDock::finishedSweep, this, &MainWindow::showSwept);
+  connect(pathDock_, &PathDock::cleared, this, &MainWindow::showSwept);
   connect(simulation_, &SimulationController::started, pathDock_, &PathDock::clear);
   connect(pathDock_, &PathDock::statusMessage, this, [this](const QString& text) { statusBar()->showMessage(text, 15000); });
 }

@@ -1,5 +1,7 @@
 #include "vaw/ui/part_properties_model.hpp"
 
+#include <algorithm>
+
 #include <QBrush>
 #include <QColor>
 #include <QFont>
@@ -175,6 +177,28 @@ void PartPropertiesModel::updateLive(const vaw::sim::PartReport& r) {
     if (row.value == live[i].value && row.toolTip == live[i].toolTip && row.warn == live[i].warn) continue;
     row = live[i];
     emit dataChanged(index(static_cast<int>(i), ValueColumn), index(static_cast<int>(i), ValueColumn));
+  }
+}
+
+void PartPropertiesModel::setSwept(const QString& value, const QString& toolTip) {
+  const QString label = tr("Swept volume");
+  const auto it = std::find_if(rows_.begin(), rows_.end(), [&](const Row& r) { return r.property == label; });
+  if (it == rows_.end()) {
+    if (value.isEmpty() || !part_) return;
+    const int at = static_cast<int>(rows_.size());
+    beginInsertRows({}, at, at);
+    rows_.push_back(Row{label, value, toolTip, false, false});
+    endInsertRows();
+  } else if (value.isEmpty()) {
+    const int at = static_cast<int>(it - rows_.begin());
+    beginRemoveRows({}, at, at);
+    rows_.erase(it);
+    endRemoveRows();
+  } else {
+    it->value = value;
+    it->toolTip = toolTip;
+    const int at = static_cast<int>(it - rows_.begin());
+    emit dataChanged(index(at, 0), index(at, ColumnCount - 1));
   }
 }
 

@@ -208,6 +208,7 @@ void PathDock::clear() {
   summary_->clear();
   export_->setEnabled(false);
   setPart(std::nullopt);
+  emit cleared();
 }
 
 void PathDock::sweep() {

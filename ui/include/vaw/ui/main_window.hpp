@@ -144,6 +144,8 @@ class MainWindow : public QMainWindow {
   void showViewportMenu(const QPoint& windowPos);
   void wireSequence();
   void wirePath();
+  // The part panel's swept-volume row: the Path panel's result when it is the shown part's.
+  void showSwept();
   // Writes the report with the order found; says where, or why not.
   void writeReport(const QString& dir);
   void wireXr();

@@ -31,6 +31,8 @@ class PartPropertiesModel : public QAbstractTableModel {
   // The live rows (added first on the first call, then updated in place).
   void updateLive(const vaw::sim::PartReport& report);
   [[nodiscard]] bool hasLive() const { return liveRows_ > 0; }
+  // The volume the part's carried path swept (the Path panel), as a last row; empty removes it.
+  void setSwept(const QString& value, const QString& toolTip = {});
   // The value shown for a property (by its label), empty if absent. For tests and tools.
   [[nodiscard]] QString value(const QString& property) const;
 

@@ -56,6 +56,7 @@ class PathDock : public QDockWidget {
   // The last result, for the part it was computed for (none before the first, or after a new scene).
   [[nodiscard]] const vaw::sim::SweptVolume* swept() const { return result_ ? &result_->swept : nullptr; }
   [[nodiscard]] const vaw::sim::ClearanceReport* clearance() const { return result_ ? &result_->clearance : nullptr; }
+  [[nodiscard]] std::optional<vaw::PartId> resultPart() const { return result_ ? std::optional(result_->part) : std::nullopt; }
 
  public slots:
   void setPart(std::optional<vaw::PartId> part);
@@ -70,6 +71,7 @@ class PathDock : public QDockWidget {
 
  signals:
   void finishedSweep();
+  void cleared();  // the last result is gone (a new world)
   void exported(const QString& file, const QString& why);
   void statusMessage(const QString& text);
 
