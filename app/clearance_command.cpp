@@ -171,8 +171,7 @@ int sweep(const SweepArgs& args) {
     so.relativeToBase = args.relativeToBase;
     so.from = args.clearance.from;
     so.to = args.clearance.to;
-    const sim::SweptVolume sv = sim::sweptVolume(rec.scene, rec.session, rec.part, so);
-    const sim::ClearanceReport r = sim::clearanceAlong(rec.scene, rec.session, rec.part, rec.options);
+    const auto [sv, r] = sim::sweptVolumeAndClearance(rec.scene, rec.session, rec.part, so, rec.options);
     const std::string& partName = a.parts[rec.part].name;
     const std::filesystem::path dir = outputDir(args.clearance.out);
 

@@ -304,3 +304,44 @@ TEST(SweptVolume, RelativeToATurningBaseTheHeldPartSweepsAnArcOnIt) {
   o.from = 100.0;
   EXPECT_THROW((void)sweptVolume(scene, s, ball, o), InputError);
 }
+
+// The volume and the clearance in one replay are the two measured in a replay each, bit for bit.
+TEST(SweptVolume, OneReplayGivesWhatTwoReplaysGive) {
+  std::filesystem::path file;
+  const auto scene = turntable(file);
+  const PartId ball = *scene->assembly().findPart("ball");
+  Session s;
+  s.scene = file.string();
+  for (int i = 0; i <= 40; ++i) {
+    Input in;
+    in.right = simtest::hand(at(0.060 - 0.001 * i, 0.0, 0.100 - 0.002 * i), i < 40);
+    s.inputs.push_back(in);
+  }
+  SweptVolumeOptions so;
+  so.voxel = 0.002;
+  ClearanceOptions co;
+  co.threshold = 0.030;
+  const SweptPathAndClearance both = sweptVolumeAndClearance(scene, s, ball, so, co);
+  const SweptVolume swept = sweptVolume(scene, s, ball, so);
+  const ClearanceReport clearance = clearanceAlong(scene, s, ball, co);
+  EXPECT_GT(swept.voxels, 0U);
+  EXPECT_EQ(both.swept.occupied, swept.occupied);
+  EXPECT_EQ(both.swept.dims, swept.dims);
+  EXPECT_EQ(both.swept.from, swept.from);
+  EXPECT_EQ(both.swept.to, swept.to);
+  ASSERT_EQ(both.clearance.steps.size(), clearance.steps.size());
+  ASSERT_FALSE(clearance.steps.empty());
+  for (std::size_t i = 0; i < clearance.steps.size(); ++i) {
+    EXPECT_EQ(both.clearance.steps[i].t, clearance.steps[i].t);
+    EXPECT_EQ(both.clearance.steps[i].distance, clearance.steps[i].distance);
+  }
+  EXPECT_EQ(both.clearance.spans.size(), clearance.spans.size());
+  EXPECT_EQ(both.clearance.objects.size(), clearance.objects.size());
+  // A part never carried: refused by whichever measure finishes first, naming the part.
+  try {
+    (void)sweptVolumeAndClearance(scene, s, *scene->assembly().findPart("plate"), so, co);
+    FAIL() << "the plate is never carried";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("plate is never carried"), std::string::npos) << e.what();
+  }
+}

@@ -236,8 +236,9 @@ void PathDock::sweep() {
     out.part = part;
     out.generation = generation;
     try {
-      out.swept = vaw::sim::sweptVolume(scene, session, part, so);
-      out.clearance = vaw::sim::clearanceAlong(scene, session, part, co);
+      vaw::sim::SweptPathAndClearance both = vaw::sim::sweptVolumeAndClearance(scene, session, part, so, co);
+      out.swept = std::move(both.swept);
+      out.clearance = std::move(both.clearance);
     } catch (const vaw::InputError& e) {
       out.error = QString::fromStdString(e.what());
     }

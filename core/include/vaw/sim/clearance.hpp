@@ -19,6 +19,7 @@
 namespace vaw::sim {
 
 class Scene;
+class World;
 
 struct ClearanceOptions {
   double threshold = 0.005;        // m: apart but closer than this is a near miss
@@ -59,6 +60,25 @@ struct ClearanceReport {
   std::vector<ClearanceStep> steps;      // in time order
   std::vector<ObjectClearance> objects;  // every object that came within `reach`, least clearance first
   std::vector<ClearanceSpan> spans;      // by start time
+};
+
+// Measures a part's clearance step by step, for a replay that feeds more than one measure
+// (sweptVolumeAndClearance); clearanceAlong below is the one-measure replay. Construction throws
+// vaw::InputError naming `file` for a part not in the scene or a threshold not a finite distance of 0
+// or more; finish throws it when no step was in the span.
+class ClearanceMeter {
+ public:
+  ClearanceMeter(const std::shared_ptr<const Scene>& scene, std::string file, PartId part, const ClearanceOptions& options);
+  ~ClearanceMeter();
+  ClearanceMeter(ClearanceMeter&&) noexcept;
+  ClearanceMeter& operator=(ClearanceMeter&&) noexcept;
+
+  void step(const World& w);
+  [[nodiscard]] ClearanceReport finish();
+
+ private:
+  struct State;
+  std::unique_ptr<State> s_;
 };
 
 // Replays `session` on `scene` and measures the part's clearance at every step of the span. Throws

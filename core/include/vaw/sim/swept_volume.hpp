@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "vaw/mesh.hpp"
+#include "vaw/sim/clearance.hpp"
 #include "vaw/sim/session.hpp"
 
 namespace vaw::sim {
@@ -60,5 +61,15 @@ struct SweptVolumeOptions {
 // would be too large, or relativeToBase is asked for a scene without a base or for the base itself.
 SweptVolume sweptVolume(const std::shared_ptr<const Scene>& scene, const Session& session, PartId part,
                         const SweptVolumeOptions& options = {});
+
+struct SweptPathAndClearance {
+  SweptVolume swept;
+  ClearanceReport clearance;
+};
+
+// The swept volume and the clearance of the same part in one replay (the Path panel and `vaw-sim sweep`
+// want both); each takes its span from its own options. Throws as sweptVolume and clearanceAlong do.
+SweptPathAndClearance sweptVolumeAndClearance(const std::shared_ptr<const Scene>& scene, const Session& session, PartId part,
+                                              const SweptVolumeOptions& swept, const ClearanceOptions& clearance);
 
 }  // namespace vaw::sim
