@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <map>
 #include <set>
 #include <string>
@@ -12,6 +14,9 @@
 #include "files.hpp"
 #include "step_fixtures.hpp"
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/evaluation/way_clearance.hpp"
+#include "vaw/collision/collision_world.hpp"
+#include "vaw/error.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace {
@@ -114,6 +119,93 @@ TEST(Sequence, ThePegGoesInBeforeItsCover) {
   ASSERT_EQ(peg->directions[1].blockers.size(), 1u);
   EXPECT_EQ(peg->directions[1].blockers[0].by, *a.base);
   EXPECT_NEAR(peg->directions[1].blockers[0].distance, 0.0, 2e-5);
+}
+
+// How close each way home comes to the parts already in, on the bracket whose fits are known: the sleeve
+// slides on its pin (0.2 mm radial play) and the nuts on their studs, which are guides, not near misses;
+// the bracket's upright stands 1 mm beside each nut (nut outer radius 10 about y = 40, upright from
+// y = 51), which a nut passes all the way down onto the flange it rests on.
+TEST(Sequence, WaysHomeNameWhatTheyPassAndHowClose) {
+  const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
+  const SequencePlan plan = vaw::eval::planSequence(a);
+  ASSERT_TRUE(plan.complete());
+  vaw::eval::WayClearanceOptions o;
+  o.threshold = 0.005;
+  const auto ways = vaw::eval::wayClearances(a, plan, o);
+  ASSERT_EQ(ways.size(), plan.order.size() - 1);
+  std::map<std::string, const vaw::eval::WayClearance*> by;
+  for (const auto& w : ways) by[a.parts[w.part].name] = &w;
+  ASSERT_EQ(by.size(), 7u);
+  const std::vector<Eigen::Isometry3d> home = vaw::eval::homePoses(a);
+  Assembly together = a;
+  for (PartId p = 0; p < a.parts.size(); ++p) together.parts[p].pose = home[p];
+  vaw::collision::CollisionWorld cw(together);
+
+  // The studs go into the plate's blind holes (their guides) with nothing else in yet.
+  EXPECT_EQ(names(a, by["stud-1"]->guides), "base-plate");
+  EXPECT_TRUE(by["stud-1"]->objects.empty());
+  // The bracket slides down both studs onto the plate: no near miss.
+  EXPECT_EQ(names(a, by["bracket"]->guides), "stud-1 stud-2");
+  EXPECT_EQ(names(a, by["bracket"]->seatedOn), "base-plate");
+  EXPECT_FALSE(by["bracket"]->nearMiss(o.threshold));
+  // The sleeve slides down the pin with 0.2 mm of play onto the plate: no near miss; the bracket is the
+  // nearest it passes, more than 5 mm off.
+  EXPECT_EQ(names(a, by["sleeve"]->guides), "pin");
+  EXPECT_EQ(names(a, by["sleeve"]->seatedOn), "base-plate");
+  EXPECT_FALSE(by["sleeve"]->nearMiss(o.threshold));
+  ASSERT_NE(by["sleeve"]->nearest(), nullptr);
+  EXPECT_EQ(a.parts[by["sleeve"]->nearest()->part].name, "bracket");
+  // Each nut passes the upright 1 mm off (its polygon's outermost point at most the facets' sag inside the
+  // circle), from the top of its way down to the flange: a near miss, although the bracket is its seat.
+  for (const char* nut : {"nut-1", "nut-2"}) {
+    const auto& w = *by[nut];
+    EXPECT_EQ(names(a, w.guides), nut == std::string("nut-1") ? "stud-1" : "stud-2");
+    EXPECT_EQ(names(a, w.seatedOn), "bracket");
+    ASSERT_TRUE(w.nearMiss(o.threshold)) << nut;
+    const auto& near = *w.nearest();
+    EXPECT_EQ(a.parts[near.part].name, "bracket");
+    EXPECT_GE(near.least, 0.001 - o.tolerance) << nut;
+    EXPECT_LE(near.least, 0.00102) << nut;
+    // The upright's face stands 11 mm from the nut's axis.
+    const Eigen::Vector3d axis = cw.worldBounds(vaw::collision::ObjectId::part(w.part)).center();
+    EXPECT_NEAR(near.onOther.y() - axis.y(), 0.011, 1e-6) << "on the upright's face";
+    EXPECT_GE(near.at, o.threshold) << "the last approach onto the seat is not counted";
+  }
+  // Each way's nearest agrees with a dense walk down the way (every 0.1 mm, so the walk's least is within
+  // 0.05 mm above the true one): the search is never more than its tolerance above it, and never below
+  // the true least.
+  const double walk = 1e-4;
+  for (const auto& w : ways) {
+    if (w.objects.empty()) continue;
+    const auto& ob = w.objects.front();
+    double dense = std::numeric_limits<double>::infinity();
+    const double from = std::find(w.seatedOn.begin(), w.seatedOn.end(), ob.part) != w.seatedOn.end() ? o.threshold + o.tolerance : 0.0;
+    for (double s = from; s <= w.length + 1e-12; s += walk) {
+      Eigen::Isometry3d pose = home[w.part];
+      pose.pretranslate(s * w.out);
+      dense = std::min(dense, cw.distance(vaw::collision::ObjectId::part(w.part), pose, vaw::collision::ObjectId::part(ob.part)));
+    }
+    EXPECT_LE(ob.least, dense + o.tolerance) << a.parts[w.part].name << " / " << a.parts[ob.part].name;
+    EXPECT_GE(ob.least, dense - 0.5 * walk) << a.parts[w.part].name << " / " << a.parts[ob.part].name;
+  }
+
+  // The nut's way as a swept volume: a tube sliding along its own axis sweeps a longer tube, its bore open.
+  o.voxel = 0.001;
+  const auto swept = vaw::eval::wayClearances(a, plan, o);
+  const auto nut = std::find_if(swept.begin(), swept.end(), [&](const auto& w) { return a.parts[w.part].name == "nut-1"; });
+  ASSERT_TRUE(nut != swept.end() && nut->swept);
+  const double h = 0.008 + nut->length, pi = 3.14159265358979, slack = 1.25 * std::sqrt(3.0) * o.voxel;
+  EXPECT_GE(nut->swept->volume, pi * (0.0099 * 0.0099 - 0.006 * 0.006) * h);
+  EXPECT_LE(nut->swept->volume, pi * (std::pow(0.010 + slack, 2) - std::pow(0.006 - slack, 2)) * (h + 2 * slack));
+  // A point of the nut's wall and of its bore, from its axis half way up.
+  const Eigen::Vector3d centre = cw.worldBounds(vaw::collision::ObjectId::part(nut->part), home[nut->part]).center();
+  const Eigen::Vector3d wall = centre + Eigen::Vector3d(0.008, 0.0, 0.0);
+  EXPECT_TRUE(nut->swept->contains(wall)) << "the nut at home";
+  EXPECT_TRUE(nut->swept->contains(wall + nut->length * nut->out)) << "the nut where it starts";
+  EXPECT_FALSE(nut->swept->contains(centre + 0.5 * nut->length * nut->out)) << "its bore";
+  // Options that are no lengths are refused, naming the field.
+  o.tolerance = 0.0;
+  EXPECT_THROW((void)vaw::eval::wayClearances(a, plan, o), vaw::InputError);
 }
 
 TEST(Sequence, ACaptiveRingIsNamedWithItsBlocker) {

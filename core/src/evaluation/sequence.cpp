@@ -257,6 +257,15 @@ const Direction* SequencePlan::wayOf(PartId p) const {
   return c && k >= 0 ? &c->directions[static_cast<std::size_t>(k)] : nullptr;
 }
 
+std::vector<Eigen::Isometry3d> homePoses(const Assembly& assembly) {
+  std::vector<Eigen::Isometry3d> home(assembly.parts.size());
+  for (PartId p = 0; p < assembly.parts.size(); ++p) {
+    const Part& part = assembly.parts[p];
+    home[p] = (assembly.base && p == *assembly.base) || !part.finalPose ? part.pose : *part.finalPose;
+  }
+  return home;
+}
+
 SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& options, const ProgressFn& progress) {
   if (!assembly.base) fail(assembly.source.string(), "base", "an assembly with a base part (the sequence starts from it)", "none");
   SequencePlan plan;
@@ -266,11 +275,10 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
 
   // The assembly put together: every part at its final pose (the base where it stands).
   Assembly together = assembly;
-  std::vector<Eigen::Isometry3d> home(n);
+  const std::vector<Eigen::Isometry3d> home = homePoses(assembly);
   std::vector<bool> inSequence(n, false);
   for (PartId p = 0; p < n; ++p) {
     const Part& part = assembly.parts[p];
-    home[p] = p == base || !part.finalPose ? part.pose : *part.finalPose;
     together.parts[p].pose = home[p];
     inSequence[p] = p == base || part.finalPose.has_value();
     if (!inSequence[p]) plan.skipped.push_back(p);
@@ -293,6 +301,7 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     for (Direction& d : check.directions) {
       // Out until the part's trailing side has passed the assembly's leading side.
       const double length = along(all, d.out).second - along(box, d.out).first + 2.0 * options.tolerance;
+      d.length = length;
       Eigen::AlignedBox3d swept = box;
       swept.extend(box.min() + length * d.out).extend(box.max() + length * d.out);
       for (const ObjectId& o : world.near(swept, mover)) {

@@ -33,6 +33,7 @@ struct Direction {
   std::optional<std::size_t> constraint;  // the constraint that gives it (index into Assembly::constraints)
   bool alongAxis = false;           // an insert's axis (the sweep slides along coaxial surfaces)
   std::vector<Blocker> blockers;    // every part in the way at the final poses, nearest first
+  double length = 0.0;              // m swept out: until the part's trailing side passed the assembly's leading side
 };
 
 struct PartCheck {
@@ -99,6 +100,10 @@ std::string travelText(const Eigen::Vector3d& out);
 std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
                                                            const SequenceOptions& options = {}, int* sweeps = nullptr,
                                                            const PairProgress& progress = {});
+
+// The assembly put together: every part at its final pose; the base, and parts without a final pose,
+// where they stand. By PartId.
+std::vector<Eigen::Isometry3d> homePoses(const Assembly& assembly);
 
 // Throws vaw::Error when the assembly has no base. `progress` (may be empty) is asked between parts;
 // returning false stops with LoadCancelled.
