@@ -7,10 +7,12 @@
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "vaw/report/report.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/evaluation/session_stats.hpp"
+#include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
@@ -148,6 +150,38 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
   }
 }
 
+std::string partNames(const Assembly& a, const std::vector<PartId>& parts) {
+  std::string out;
+  for (const PartId p : parts) out += (out.empty() ? "" : " ") + a.parts[p].name;
+  return out;
+}
+
+json waysJson(const Assembly& a, const report::WaysHome& ways) {
+  json parts = json::array();
+  for (const auto& w : ways.ways) {
+    json e{{"part", a.parts[w.part].name}, {"slides_on", partNames(a, w.guides)}, {"rests_on", partNames(a, w.seatedOn)},
+           {"near_miss", w.nearMiss(ways.options.threshold)}, {"length_m", w.length}};
+    if (const eval::WayObject* n = w.nearest()) e["nearest"] = {{"part", a.parts[n->part].name}, {"least_m", n->least}, {"at_m", n->at}};
+    if (w.swept) e["swept_volume_m3"] = w.swept->volume;
+    parts.push_back(e);
+  }
+  return {{"threshold_m", ways.options.threshold}, {"voxel_m", ways.options.voxel}, {"parts", parts}};
+}
+
+void printWays(const Assembly& a, const report::WaysHome& ways) {
+  std::size_t misses = 0;
+  for (const auto& w : ways.ways) misses += w.nearMiss(ways.options.threshold) ? 1 : 0;
+  std::printf("\nways home past the parts already in (near miss: under %.3g mm from a part it neither slides on nor rests on): %zu of %zu\n",
+              1e3 * ways.options.threshold, misses, ways.ways.size());
+  std::printf("  %-20s %-20s %10s %10s %10s  %s\n", "part", "nearest", "least mm", "at mm out", "swept cm3", "");
+  for (const auto& w : ways.ways) {
+    const eval::WayObject* n = w.nearest();
+    std::printf("  %-20s %-20s %10s %10s %10s  %s\n", a.parts[w.part].name.c_str(), n ? a.parts[n->part].name.c_str() : "-",
+                n ? report::formatNumber(1e3 * n->least).c_str() : "", n ? report::formatNumber(1e3 * n->at).c_str() : "",
+                w.swept ? report::formatNumber(1e6 * w.swept->volume).c_str() : "", w.nearMiss(ways.options.threshold) ? "near miss" : "");
+  }
+}
+
 }  // namespace
 
 int evaluate(const EvaluateArgs& args) {
@@ -183,9 +217,18 @@ int evaluate(const EvaluateArgs& args) {
         sessions.push_back(eval::sessionStats(scene, session, std::filesystem::path(file).stem().stem().string()));
       }
     }
+    // Each way home walked past the parts already in, and swept.
+    std::optional<report::WaysHome> ways;
+    if (args.sweeps) {
+      ways.emplace();
+      ways->options.threshold = 1e-3 * args.thresholdMm;
+      ways->options.voxel = 1e-3 * args.voxelMm;
+      ways->ways = eval::wayClearances(a, plan, ways->options, progress);
+    }
     if (tty) std::fprintf(stderr, "\r%70s\r", "");
     if (args.json) {
       json j = toJson(a, plan, seconds);
+      if (ways) j["ways"] = waysJson(a, *ways);
       if (!sessions.empty()) {
         json rows = json::array();
         for (const auto& r : report::partRows(a, plan, sessions))
@@ -197,6 +240,7 @@ int evaluate(const EvaluateArgs& args) {
       std::cout << j.dump(2) << '\n';
     } else {
       printText(a, plan, seconds);
+      if (ways) printWays(a, *ways);
       if (!sessions.empty()) {
         std::printf("\n%zu session%s: per part, mean (sd) over the sessions, and the design-for-assembly estimate\n", sessions.size(),
                     sessions.size() == 1 ? "" : "s");
@@ -213,9 +257,9 @@ int evaluate(const EvaluateArgs& args) {
     }
     if (!args.report.empty()) {
       std::fflush(stdout);  // the table before the note, when both go to one file
-      const report::ReportFiles files = report::writeReport(a, plan, sessions, args.report);
-      std::fprintf(stderr, "vaw-sim: wrote %s (and parts.csv, sequence.csv, sessions.csv, evaluation.json beside it)\n",
-                   files.html.string().c_str());
+      const report::ReportFiles files = report::writeReport(a, plan, sessions, args.report, {}, ways ? &*ways : nullptr);
+      std::fprintf(stderr, "vaw-sim: wrote %s (and parts.csv, sequence.csv, sessions.csv%s, evaluation.json beside it)\n",
+                   files.html.string().c_str(), ways ? ", ways.csv" : "");
     }
     // Scripts and CI tell "no order" from success without reading the table (docs/evaluation.md).
     return plan.complete() ? 0 : kExitNoOrder;

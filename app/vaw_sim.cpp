@@ -334,6 +334,12 @@ int dispatch(int argc, char** argv) {
   evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default), the file's axis that points up or "
                                    "its direction as three numbers")
       ->check(upChoice);
+  CLI::Option* sweeps = evCmd->add_flag("--sweeps", ev.sweeps, "Each way home walked past the parts already in: its least clearance to each, near misses "
+                                        "flagged, and the space it needs swept (in the text, the JSON and the report with a picture of each)");
+  evCmd->add_option("--threshold", ev.thresholdMm, "With --sweeps: closer than this to a part already in is a near miss (mm, default 5)")
+      ->type_name("MM")->check(CLI::NonNegativeNumber)->needs(sweeps);
+  evCmd->add_option("--voxel", ev.voxelMm, "With --sweeps: the swept volumes' voxel edge (mm, default 1; 0 leaves them out)")
+      ->type_name("MM")->check(CLI::NonNegativeNumber)->needs(sweeps);
   addReaderLimits(evCmd, ev.import);
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 

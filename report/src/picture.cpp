@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <stdexcept>
 
 namespace vaw::report::detail {
@@ -65,8 +66,12 @@ void Picture::draw(const Drawn& d) {
         const auto z = static_cast<float>(w0 * p0.z() + w1 * p1.z() + w2 * p2.z());
         const std::size_t i = static_cast<std::size_t>(y * w_ + x);
         if (z >= depth_[i]) continue;
-        depth_[i] = z;
-        for (int c = 0; c < 3; ++c) rgb_[3 * i + static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(std::clamp(255.0f * shade * d.color[c], 0.0f, 255.0f));
+        if (d.alpha >= 1.0f) depth_[i] = z;
+        for (int c = 0; c < 3; ++c) {
+          std::uint8_t& out = rgb_[3 * i + static_cast<std::size_t>(c)];
+          const float lit = std::clamp(255.0f * shade * d.color[c], 0.0f, 255.0f);
+          out = static_cast<std::uint8_t>(d.alpha >= 1.0f ? lit : d.alpha * lit + (1.0f - d.alpha) * static_cast<float>(out));
+        }
       }
   }
 }
@@ -83,6 +88,19 @@ void Picture::line(Eigen::Vector2d a, Eigen::Vector2d b, const Eigen::Vector3f& 
         const std::size_t i = static_cast<std::size_t>(y * w_ + x);
         for (int c = 0; c < 3; ++c) rgb_[3 * i + static_cast<std::size_t>(c)] = static_cast<std::uint8_t>(255.0f * color[c]);
       }
+  }
+}
+
+void Picture::segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3f& color, double width) {
+  line(project(a).head<2>(), project(b).head<2>(), color, width);
+}
+
+void Picture::ring(const Eigen::Vector3d& at, double radius, const Eigen::Vector3f& color) {
+  const Eigen::Vector2d c = project(at).head<2>();
+  constexpr int kSides = 24;
+  for (int k = 0; k < kSides; ++k) {
+    const double t0 = 2.0 * std::numbers::pi * k / kSides, t1 = 2.0 * std::numbers::pi * (k + 1) / kSides;
+    line(c + radius * Eigen::Vector2d(std::cos(t0), std::sin(t0)), c + radius * Eigen::Vector2d(std::cos(t1), std::sin(t1)), color, 1.0);
   }
 }
 

@@ -15,6 +15,8 @@ struct Drawn {
   const TriMesh* mesh = nullptr;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   Eigen::Vector3f color{0.6f, 0.6f, 0.6f};
+  // Below 1: blended over what is drawn and hiding nothing drawn after it (draw such meshes last).
+  float alpha = 1.0f;
 };
 
 class Picture {
@@ -24,6 +26,10 @@ class Picture {
   void draw(const Drawn& d);
   // An arrow along `direction` (world) ending at `tip`, `length` m long, in `color`, drawn over everything.
   void arrow(const Eigen::Vector3d& tip, const Eigen::Vector3d& direction, double length, const Eigen::Vector3f& color);
+  // A line between two world points, drawn over everything.
+  void segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3f& color, double width = 1.5);
+  // A ring around a world point, `radius` pixels, drawn over everything.
+  void ring(const Eigen::Vector3d& at, double radius, const Eigen::Vector3f& color);
   [[nodiscard]] std::string png() const;
   [[nodiscard]] std::string dataUri() const;  // "data:image/png;base64,..."
 

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
 
 #include "picture.hpp"
+#include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
 
@@ -46,42 +49,65 @@ Eigen::Vector3f colorOf(const Assembly& a, PartId p) {
   return palette[p % 6];
 }
 
-Eigen::Isometry3d homeOf(const Assembly& a, PartId p) {
-  return a.base && p == *a.base ? a.parts[p].pose : a.parts[p].finalPose.value_or(a.parts[p].pose);
-}
-
 // The assembly, or its state at one step of the order: the parts before it grey, the step's part in its
 // colour with the way it comes home, the parts after it left out.
 // Every picture frames the whole assembly, so that the steps line up.
-Eigen::AlignedBox3d assembledBounds(const Assembly& a, const SequencePlan& plan) {
+Eigen::AlignedBox3d assembledBounds(const Assembly& a, const SequencePlan& plan, const std::vector<Eigen::Isometry3d>& home) {
   Eigen::AlignedBox3d box;
   for (const PartId p : plan.order)
-    for (const auto& v : a.parts[p].mesh->vertices) box.extend(homeOf(a, p) * v);
+    for (const auto& v : a.parts[p].mesh->vertices) box.extend(home[p] * v);
   for (const auto& s : plan.stuck)
-    for (const auto& v : a.parts[s.part].mesh->vertices) box.extend(homeOf(a, s.part) * v);
+    for (const auto& v : a.parts[s.part].mesh->vertices) box.extend(home[s.part] * v);
   return box;
 }
 
 // `shown`: the positions in the order drawn in colour (the ones before them grey, the ones after left
 // out); none: the whole assembly. One part shown gets the arrow of its way home.
-std::string picture(const Assembly& a, const SequencePlan& plan, const Eigen::AlignedBox3d& box,
+std::string picture(const Assembly& a, const SequencePlan& plan, const std::vector<Eigen::Isometry3d>& home, const Eigen::AlignedBox3d& box,
                     std::optional<std::pair<std::size_t, std::size_t>> shown, int w, int h) {
   detail::Picture pic(w, h, box);
   const std::size_t end = shown ? shown->second : plan.order.size();
   for (std::size_t i = 0; i < end && i < plan.order.size(); ++i) {
     const PartId p = plan.order[i];
     const bool current = !shown || i >= shown->first;
-    pic.draw({a.parts[p].mesh.get(), homeOf(a, p), current ? colorOf(a, p) : Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
+    pic.draw({a.parts[p].mesh.get(), home[p], current ? colorOf(a, p) : Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
   }
   if (!shown)
-    for (const auto& s : plan.stuck) pic.draw({a.parts[s.part].mesh.get(), homeOf(a, s.part), Eigen::Vector3f(0.85f, 0.15f, 0.15f)});
+    for (const auto& s : plan.stuck) pic.draw({a.parts[s.part].mesh.get(), home[s.part], Eigen::Vector3f(0.85f, 0.15f, 0.15f)});
   if (shown && shown->first > 0 && shown->second == shown->first + 1)
     if (const Direction* way = plan.wayOf(plan.order[shown->first])) {
       const PartId p = plan.order[shown->first];
-      const Eigen::Vector3d centre = homeOf(a, p) * a.parts[p].mass.centerOfMass;
+      const Eigen::Vector3d centre = home[p] * a.parts[p].mass.centerOfMass;
       pic.arrow(centre + 0.25 * way->out * box.diagonal().norm() * 0.3, -way->out, 0.25 * box.diagonal().norm(),
                 Eigen::Vector3f(0.85f, 0.1f, 0.1f));
     }
+  return pic.dataUri();
+}
+
+// A way home: the parts already in grey, the part at home in its colour, the space its way needs
+// translucent (or an arrow along it, without a swept volume), and its nearest pass: a line between the two
+// nearest points with a ring on the other part, red for a near miss. Framed on the parts in and the way.
+std::string wayPicture(const Assembly& a, const SequencePlan& plan, const std::vector<Eigen::Isometry3d>& home, const eval::WayClearance& w,
+                       double threshold, int width, int height) {
+  Eigen::AlignedBox3d box;
+  const auto upTo = std::find(plan.order.begin(), plan.order.end(), w.part);
+  for (auto it = plan.order.begin(); it != plan.order.end() && it <= upTo; ++it)
+    for (const auto& v : a.parts[*it].mesh->vertices) box.extend(home[*it] * v);
+  for (const auto& v : a.parts[w.part].mesh->vertices) box.extend(home[w.part] * v + w.length * w.out);
+  detail::Picture pic(width, height, box);
+  for (auto it = plan.order.begin(); it != upTo && it != plan.order.end(); ++it)
+    pic.draw({a.parts[*it].mesh.get(), home[*it], Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
+  pic.draw({a.parts[w.part].mesh.get(), home[w.part], colorOf(a, w.part)});
+  if (w.swept) pic.draw({&w.swept->mesh, Eigen::Isometry3d::Identity(), Eigen::Vector3f(0.35f, 0.6f, 0.95f), 0.35f});
+  else {
+    const Eigen::Vector3d centre = home[w.part] * a.parts[w.part].mass.centerOfMass;
+    pic.arrow(centre + w.length * w.out, -w.out, w.length, Eigen::Vector3f(0.2f, 0.4f, 0.8f));
+  }
+  if (const eval::WayObject* n = w.nearest()) {
+    const Eigen::Vector3f mark = n->least < threshold ? Eigen::Vector3f(0.85f, 0.1f, 0.1f) : Eigen::Vector3f(0.2f, 0.2f, 0.2f);
+    pic.segment(n->onPart, n->onOther, mark, 1.0);
+    pic.ring(n->onOther, 7.0, mark);
+  }
   return pic.dataUri();
 }
 
@@ -315,7 +341,7 @@ std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const
 }
 
 ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir, const ProgressFn& progress) {
+                        const std::filesystem::path& dir, const ProgressFn& progress, const WaysHome* waysHome) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw OutputError(dir.string() + ": cannot create the report folder: " + ec.message());
@@ -395,15 +421,52 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   }
   j["sessions"] = js;
 
+  // ways.csv and evaluation.json's "ways": each way home's nearest pass, in the order.
+  const double threshold = waysHome ? waysHome->options.threshold : 0.0;
+  const auto namesOf = [&](const std::vector<PartId>& parts) {
+    std::string out;
+    for (const PartId q : parts) out += (out.empty() ? "" : " ") + a.parts[q].name;
+    return out;
+  };
+  std::string waysCsv =
+      "part,comes_home,length_mm,slides_on,rests_on,nearest,least_mm,at_mm,near_miss,swept_cm3,nearest_on_part_mm,nearest_on_other_mm\n";
+  if (waysHome) {
+    const auto point = [](const Eigen::Vector3d& v) { return formatNumber(1e3 * v.x()) + " " + formatNumber(1e3 * v.y()) + " " + formatNumber(1e3 * v.z()); };
+    json jw = json::array();
+    for (const auto& w : waysHome->ways) {
+      const Direction* way = plan.wayOf(w.part);
+      const eval::WayObject* n = w.nearest();
+      waysCsv += csv(a.parts[w.part].name) + "," + csv(way ? travelText(way->out) + ": " + way->from : std::string()) + "," +
+                 formatNumber(1e3 * w.length) + "," + csv(namesOf(w.guides)) + "," + csv(namesOf(w.seatedOn)) + "," +
+                 (n ? csv(a.parts[n->part].name) + "," + formatNumber(1e3 * n->least) + "," + formatNumber(1e3 * n->at) : std::string(",,")) + "," +
+                 (w.nearMiss(threshold) ? "yes" : "no") + "," + (w.swept ? formatNumber(1e6 * w.swept->volume) : std::string()) + "," +
+                 (n ? point(n->onPart) + "," + point(n->onOther) : std::string(",")) + "\n";
+      json objects = json::array();
+      for (const auto& o : w.objects)
+        objects.push_back({{"part", a.parts[o.part].name}, {"least_m", o.least}, {"at_m", o.at},
+                           {"on_part", {o.onPart.x(), o.onPart.y(), o.onPart.z()}}, {"on_other", {o.onOther.x(), o.onOther.y(), o.onOther.z()}}});
+      std::vector<std::string> guides, seats;
+      for (const PartId q : w.guides) guides.push_back(a.parts[q].name);
+      for (const PartId q : w.seatedOn) seats.push_back(a.parts[q].name);
+      json e{{"part", a.parts[w.part].name}, {"out", {w.out.x(), w.out.y(), w.out.z()}}, {"length_m", w.length}, {"slides_on", guides},
+             {"rests_on", seats}, {"near_miss", w.nearMiss(threshold)}, {"objects", objects}};
+      if (w.swept) e["swept"] = {{"volume_m3", w.swept->volume}, {"voxel_m", w.swept->voxel}, {"voxels", w.swept->voxels}};
+      jw.push_back(e);
+    }
+    j["ways"] = {{"threshold_m", threshold}, {"reach_m", waysHome->options.reach}, {"tolerance_m", waysHome->options.tolerance},
+                 {"voxel_m", waysHome->options.voxel}, {"parts", jw}};
+  }
+
   // report.html.
   std::string h = "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>" + html(a.name) +
                   ": assembly evaluation</title><style>"
                   "body{font-family:sans-serif;margin:24px;color:#222;max-width:1100px}"
                   "table{border-collapse:collapse;margin:8px 0 20px}td,th{border:1px solid #ccc;padding:3px 7px;font-size:13px}"
-                  "th{background:#eef2f6;text-align:left}td.n{text-align:right}.stuck{color:#b22}"
+                  "th{background:#eef2f6;text-align:left}td.n{text-align:right}.stuck{color:#b22}tr.miss td{background:#fde9d9}"
                   ".steps{display:flex;flex-wrap:wrap;gap:10px}.steps figure{margin:0;width:320px}figcaption{font-size:12px}"
                   "</style></head><body>\n";
-  const Eigen::AlignedBox3d box = assembledBounds(a, plan);
+  const std::vector<Eigen::Isometry3d> home = eval::homePoses(a);
+  const Eigen::AlignedBox3d box = assembledBounds(a, plan, home);
   h += "<h1>" + html(a.name) + "</h1>\n<p>" +
        (plan.complete() ? "An order puts every part in place."
                         : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
@@ -440,14 +503,26 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   if (perStep) shown.assign(runs.begin(), runs.begin() + static_cast<std::ptrdiff_t>(std::min(runs.size(), kPictures)));
   else
     for (std::size_t i = 0; i < plan.order.size(); ++i) shown.emplace_back(i, i + 1);
+  // The ways pictured: near misses first, then by least clearance, a few dozen at most.
+  std::vector<const eval::WayClearance*> pictured;
+  if (waysHome) {
+    for (const auto& w : waysHome->ways) pictured.push_back(&w);
+    std::stable_sort(pictured.begin(), pictured.end(), [](const eval::WayClearance* x, const eval::WayClearance* y) {
+      const double lx = x->objects.empty() ? std::numeric_limits<double>::infinity() : x->objects.front().least;
+      const double ly = y->objects.empty() ? std::numeric_limits<double>::infinity() : y->objects.front().least;
+      return lx < ly;
+    });
+    pictured.resize(std::min(pictured.size(), kPictures));
+  }
+  const std::size_t pictures = shown.size() + 1 + pictured.size();
   // A picture takes a fraction of a second; the caller may stop between two (nothing is written yet).
   const auto drawn = [&](std::size_t count) {
-    if (progress && !progress(static_cast<double>(count) / static_cast<double>(shown.size() + 1),
-                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(shown.size() + 1)))
+    if (progress && !progress(static_cast<double>(count) / static_cast<double>(pictures),
+                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(pictures)))
       throw LoadCancelled();
   };
   drawn(0);
-  h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, box, std::nullopt, 640, 440) + "'>\n";
+  h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, home, box, std::nullopt, 640, 440) + "'>\n";
   h += "<h2>Order</h2>\n";
   if (perStep)
     h += "<p>" + std::to_string(plan.order.size()) + " parts in " + std::to_string(runs.size()) +
@@ -468,7 +543,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                 (way ? html(travelText(way->out) + " (" + way->from + ")") : std::string("(the base)"));
     }
     h += "<figure><img alt='step " + std::to_string(plan.step[from]) + "' width='320' height='220' src='" +
-         picture(a, plan, box, shown[k], 320, 220) + "'><figcaption>" + caption + "</figcaption></figure>\n";
+         picture(a, plan, home, box, shown[k], 320, 220) + "'><figcaption>" + caption + "</figcaption></figure>\n";
   }
   h += "</div>\n";
   if (perStep && runs.size() > shown.size())
@@ -492,6 +567,48 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
       }
     }
     h += "</table>\n";
+  }
+  if (waysHome) {
+    std::size_t misses = 0;
+    for (const auto& w : waysHome->ways) misses += w.nearMiss(threshold) ? 1 : 0;
+    const auto mm = [](double m) { return formatNumber(1e3 * m); };
+    // Settings in the prose as people type them: "5 mm", "0.1 mm".
+    const auto setting = [](double m) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%.4g", 1e3 * m);
+      return std::string(b);
+    };
+    h += "<h2>Ways home: clearance and space</h2>\n<p>Each part's way home in the order, walked from where it is clear of the assembly "
+         "to its place, past the parts already in: its least distance to each (found to within " + setting(waysHome->options.tolerance) +
+         " mm). A part closer than " + setting(threshold) + " mm to one it neither slides on nor rests on is a near miss, even when its way is free: " +
+         std::to_string(misses) + " of " + std::to_string(waysHome->ways.size()) + ". The parts it slides on (its inserts' partners along the way) "
+         "are left out; the parts it rests on count until the last " + setting(threshold) + " mm of its approach." +
+         (waysHome->options.voxel > 0.0 ? " Blue: the space the way needs, swept at " + setting(waysHome->options.voxel) + " mm voxels." : std::string()) +
+         "</p>\n<table id='ways'><tr><th>part</th><th>comes home</th><th>slides on</th><th>rests on</th><th>nearest it passes</th>"
+         "<th>least mm</th><th>where: mm out</th><th>swept cm&sup3;</th></tr>\n";
+    for (const auto& w : waysHome->ways) {
+      const Direction* way = plan.wayOf(w.part);
+      const eval::WayObject* n = w.nearest();
+      const bool miss = w.nearMiss(threshold);
+      h += std::string("<tr") + (miss ? " class='miss'" : "") + "><td>" + html(a.parts[w.part].name) + "</td><td>" +
+           html(way ? travelText(way->out) : std::string()) + "</td><td>" + html(namesOf(w.guides)) + "</td><td>" + html(namesOf(w.seatedOn)) +
+           "</td><td>" + (n ? html(a.parts[n->part].name) : std::string("nothing within ") + setting(waysHome->options.reach) + " mm") + "</td><td class='n'>" +
+           (n ? mm(n->least) + (miss ? " near miss" : "") : std::string()) + "</td><td class='n'>" + (n ? mm(n->at) : std::string()) +
+           "</td><td class='n'>" + (w.swept ? formatNumber(1e6 * w.swept->volume) : std::string()) + "</td></tr>\n";
+    }
+    h += "</table>\n<div class='steps'>\n";
+    for (std::size_t k = 0; k < pictured.size(); ++k) {
+      drawn(shown.size() + 1 + k);
+      const eval::WayClearance& w = *pictured[k];
+      const eval::WayObject* n = w.nearest();
+      h += "<figure><img alt='way home of " + html(a.parts[w.part].name) + "' width='320' height='220' src='" +
+           wayPicture(a, plan, home, w, threshold, 320, 220) + "'><figcaption><b>" + html(a.parts[w.part].name) + "</b> " +
+           html(travelText(w.out)) + (n ? ": " + mm(n->least) + " mm from " + html(a.parts[n->part].name) + (w.nearMiss(threshold) ? " (near miss)" : "") : std::string()) +
+           "</figcaption></figure>\n";
+    }
+    h += "</div>\n";
+    if (pictured.size() < waysHome->ways.size())
+      h += "<p>The " + std::to_string(pictured.size()) + " nearest passes are pictured; every way is in the table and in ways.csv.</p>\n";
   }
   h += "<h2>Parts</h2>\n<p>Estimate: Boothroyd-Dewhurst manual handling and insertion times (the codes' rows are in the docs);"
        " a part slow in the sessions and slow by the estimate is slow by design.</p>\n"
@@ -533,18 +650,27 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   // Marks the page once every picture has decoded, for whoever checks the page in a browser (its test).
   h += "<script>addEventListener('load',()=>{document.body.dataset.picturesShown="
        "Array.from(document.images).filter(i=>i.complete&&i.naturalWidth>0).length;});</script>\n";
-  h += "<p style='font-size:11px;color:#777'>Written by vaw-sim evaluate; the same numbers are in parts.csv, sequence.csv, sessions.csv and "
-       "evaluation.json beside this page.</p></body></html>\n";
+  h += "<p style='font-size:11px;color:#777'>Written by vaw-sim evaluate; the same numbers are in parts.csv, sequence.csv, sessions.csv" +
+       std::string(waysHome ? ", ways.csv" : "") + " and evaluation.json beside this page.</p></body></html>\n";
 
-  ReportFiles files{dir / "report.html", dir / "parts.csv", dir / "sequence.csv", dir / "sessions.csv", dir / "evaluation.json"};
+  ReportFiles files{dir / "report.html", dir / "parts.csv", dir / "sequence.csv", dir / "sessions.csv", dir / "evaluation.json", {}};
   AtomicFile fh(files.html), fp(files.partsCsv), fs(files.sequenceCsv), fss(files.sessionsCsv), fj(files.json);
+  std::optional<AtomicFile> fw;
   fh << h;
   fp << partsCsv;
   fs << sequenceCsv;
   fss << sessionsCsv;
   fj << j.dump(2) << "\n";
-  for (AtomicFile* f : {&fh, &fp, &fs, &fss, &fj}) f->finish();
-  for (AtomicFile* f : {&fh, &fp, &fs, &fss, &fj}) f->publish();
+  std::vector<AtomicFile*> all{&fh, &fp, &fs, &fss, &fj};
+  if (waysHome) {
+    files.waysCsv = dir / "ways.csv";
+    fw.emplace(files.waysCsv);
+    *fw << waysCsv;
+    all.push_back(&*fw);
+  }
+  for (AtomicFile* f : all) f->finish();
+  // The page last: whoever waits for report.html finds the rest there.
+  for (auto it = all.rbegin(); it != all.rend(); ++it) (*it)->publish();
   return files;
 }
 

@@ -417,6 +417,8 @@ TEST(Dfa, TheBracketsPartsGetTheChartsCodes) {
 #include <regex>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "vaw/report/report.hpp"
 
 namespace {
@@ -511,6 +513,55 @@ TEST(Report, TheHtmlShowsTheCsvsNumbersInChromium) {
       EXPECT_EQ(c[13], vaw::report::formatNumber(0.0));
       EXPECT_EQ(c[11], "2");
     }
+}
+
+// The ways home in the report: a row each, the near misses marked, a picture of each way, ways.csv and
+// evaluation.json with the same numbers.
+TEST(Report, WaysHomeAreTabledAndPicturedWithTheirNearMisses) {
+  const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
+  const SequencePlan plan = vaw::eval::planSequence(a);
+  vaw::report::WaysHome ways;
+  ways.options.voxel = 0.002;
+  ways.ways = vaw::eval::wayClearances(a, plan, ways.options);
+  const fs::path dir = fs::absolute("report-ways");
+  const auto files = vaw::report::writeReport(a, plan, {}, dir, {}, &ways);
+  ASSERT_EQ(files.waysCsv, dir / "ways.csv");
+
+  std::ifstream csvIn(files.waysCsv);
+  std::string line;
+  std::vector<std::string> lines;
+  while (std::getline(csvIn, line)) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 8u) << "a header and the seven ways";
+  int misses = 0;
+  for (const auto& l : lines) misses += l.find(",yes,") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(misses, 2);
+  const auto nut = std::find_if(lines.begin(), lines.end(), [](const std::string& l) { return l.rfind("nut-1,", 0) == 0; });
+  ASSERT_NE(nut, lines.end());
+  EXPECT_NE(nut->find(",stud-1,bracket,bracket,1.015,"), std::string::npos) << *nut;
+
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(files.json));
+  ASSERT_EQ(j.at("ways").at("parts").size(), 7u);
+  EXPECT_DOUBLE_EQ(j["ways"]["threshold_m"].get<double>(), 0.005);
+  for (const auto& w : j["ways"]["parts"])
+    if (w["part"] == "nut-1") {
+      EXPECT_TRUE(w["near_miss"].get<bool>());
+      EXPECT_NEAR(w["objects"][0]["least_m"].get<double>(), 0.001015, 1e-5);
+      EXPECT_GT(w["swept"]["volume_m3"].get<double>(), 0.0);
+    }
+
+  std::stringstream page;
+  page << std::ifstream(files.html).rdbuf();
+  const std::string h = page.str();
+  EXPECT_NE(h.find("<table id='ways'>"), std::string::npos);
+  std::size_t rows = 0;
+  for (auto at = h.find("<tr class='miss'>"); at != std::string::npos; at = h.find("<tr class='miss'>", at + 1)) ++rows;
+  EXPECT_EQ(rows, 2u);
+  std::size_t pictures = 0;
+  for (auto at = h.find("alt='way home of "); at != std::string::npos; at = h.find("alt='way home of ", at + 1)) ++pictures;
+  EXPECT_EQ(pictures, 7u);
+  EXPECT_NE(h.find("<b>nut-1</b> down: 1.015 mm from bracket (near miss)"), std::string::npos);
+  // The first picture is a near miss's (the nearest pass first).
+  EXPECT_LT(h.find("alt='way home of nut-"), h.find("alt='way home of sleeve'"));
 }
 
 TEST(Report, ALongOrderIsSummedUpByStepAndPicturedPerStep) {

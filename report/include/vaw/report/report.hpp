@@ -12,6 +12,7 @@
 #include "vaw/evaluation/dfa.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/evaluation/session_stats.hpp"
+#include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/importer.hpp"
 
 namespace vaw::report {
@@ -42,13 +43,21 @@ std::string formatNumber(double v);
 
 struct ReportFiles {
   std::filesystem::path html, partsCsv, sequenceCsv, sessionsCsv, json;
+  std::filesystem::path waysCsv;  // with the ways home's clearances only
 };
 
-// Writes report.html, parts.csv, sequence.csv, sessions.csv and evaluation.json into `dir` (created when
+// The ways home's clearance and space (eval::wayClearances), for the report's section on them: a table,
+// ways.csv, evaluation.json's "ways", and a picture of each way (near misses first, a few dozen at most).
+struct WaysHome {
+  std::vector<eval::WayClearance> ways;
+  eval::WayClearanceOptions options;  // what they were measured with
+};
+
+// Writes report.html, parts.csv, sequence.csv, sessions.csv and evaluation.json (and ways.csv) into `dir` (created when
 // missing). Throws vaw::OutputError naming the file when one cannot be written. `progress` hears of each
 // picture drawn; when it returns false the report is abandoned (vaw::LoadCancelled) before any file is
-// written.
+// written. `ways` (may be null) adds the ways home's section.
 ReportFiles writeReport(const Assembly& assembly, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir, const ProgressFn& progress = {});
+                        const std::filesystem::path& dir, const ProgressFn& progress = {}, const WaysHome* ways = nullptr);
 
 }  // namespace vaw::report
