@@ -1,6 +1,10 @@
 #include "vaw/evaluation/way_clearance.hpp"
 
 #include <algorithm>
+#include <array>
+#include <compare>
+#include <cstdint>
+#include <map>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -14,34 +18,128 @@ namespace {
 
 using collision::ObjectId;
 
-// The least distance from `mover` to `other` over the way, the mover at home + s * out for s in [0, length]:
-// distance is 1-Lipschitz in s (no point moves farther than s changes), so from a point at distance d
-// nothing within d - b of it can be nearer than b. Stepping by that much (and at least `tolerance`) with b
-// the least found so far (capped at `reach`) misses no value below it by more than `tolerance`. Parallel
-// runs near the least step by `tolerance`; far-off parts take a few long steps.
+// The interval a box covers along a unit direction.
+std::pair<double, double> along(const Eigen::AlignedBox3d& b, const Eigen::Vector3d& d) {
+  const double c = b.center().dot(d);
+  const double r = (0.5 * b.sizes()).dot(d.cwiseAbs());
+  return {c - r, c + r};
+}
+
+// The least distance from `mover` to `other` over the way, the mover at home + s * out for s in [from,
+// length]. Distance is 1-Lipschitz in s (no point moves farther than s changes), and so is the gap between
+// the two bounding boxes, which never exceeds it: from a point where either is d, nothing within d - b
+// can be nearer than b. Stepping by that much, at least by the accuracy, with b the least found so far
+// (capped at `reach`), misses no value below b by more than the accuracy: `tolerance`, or 5 % of how far
+// b lies beyond the threshold when that is more, so that whether a pass is a near miss is decided to the
+// tolerance while far passes take long steps. The box gap, checked first, spares the exact query where the
+// boxes are far apart. Once the mover's box has passed the other's along the way every distance only
+// grows, so the walk ends there.
 std::optional<WayObject> leastAlong(collision::CollisionWorld& cw, PartId mover, PartId other, const Eigen::Isometry3d& home,
-                                    const Eigen::Vector3d& out, double from, double length, const WayClearanceOptions& o) {
+                                    const Eigen::Vector3d& out, double from, double end, const WayClearanceOptions& o) {
   const ObjectId a = ObjectId::part(mover), b = ObjectId::part(other);
+  const Eigen::AlignedBox3d moverBox = cw.worldBounds(a, home), otherBox = cw.worldBounds(b);
   std::optional<WayObject> best;
   // The last nearest points, the mover's carried along with it: they bound the next search.
   std::optional<collision::CollisionWorld::Nearest> hint;
-  double s = std::min(from, length);
+  double hintAt = 0.0;
+  double s = from;
   for (;;) {
-    Eigen::Isometry3d pose = home;
-    pose.pretranslate(s * out);
-    cw.setPose(a, pose);
-    const collision::CollisionWorld::Nearest n = cw.nearest(a, b, hint ? &*hint : nullptr);
-    if (!std::isfinite(n.distance)) return std::nullopt;
-    if (n.distance < o.reach && (!best || n.distance < best->least)) best = WayObject{other, n.distance, s, n.onA, n.onB};
-    if (s >= length) break;
     const double bound = best ? std::min(best->least, o.reach) : o.reach;
-    const double next = std::min(length, s + std::max(n.distance - bound, o.tolerance));
-    if (n.distance > 0.0) hint = collision::CollisionWorld::Nearest{n.distance, n.onA + (next - s) * out, n.onB};
-    else hint.reset();
-    s = next;
+    const double accuracy = std::max(o.tolerance, 0.05 * (bound - o.threshold));
+    const Eigen::AlignedBox3d box(moverBox.min() + s * out, moverBox.max() + s * out);
+    double d = box.exteriorDistance(otherBox);
+    if (d - bound < accuracy) {
+      Eigen::Isometry3d pose = home;
+      pose.pretranslate(s * out);
+      cw.setPose(a, pose);
+      if (hint) hint->onA += (s - hintAt) * out;
+      const collision::CollisionWorld::Nearest n = cw.nearest(a, b, hint ? &*hint : nullptr);
+
+      if (!std::isfinite(n.distance)) return std::nullopt;
+      if (n.distance < o.reach && (!best || n.distance < best->least)) best = WayObject{other, n.distance, s, n.onA, n.onB};
+      if (n.distance > 0.0) hint = n;
+      else hint.reset();
+      hintAt = s;
+      d = n.distance;
+    }
+    if (s >= end) break;
+    const double b2 = best ? std::min(best->least, o.reach) : o.reach;
+    s = std::min(end, s + std::max(d - b2, std::max(o.tolerance, 0.05 * (b2 - o.threshold))));
   }
   return best;
 }
+
+// Products repeat their parts: a walk is decided by the two shapes, where one stands relative to the
+// other, the way in the mover's frame and the span walked, so each such case is walked once and its answer
+// (in the mover's frame) reused, as the order search does with its sweeps (the key rounded to a nanometre).
+class Walks {
+ public:
+  Walks(collision::CollisionWorld& cw, const Assembly& a, const std::vector<Eigen::Isometry3d>& home, const WayClearanceOptions& o)
+      : cw_(cw), a_(a), home_(home), o_(o) {}
+
+  struct Pass {
+    bool seat = false;               // touching at home
+    std::optional<WayObject> least;  // within reach along the way (for a seat, from the threshold out)
+  };
+
+  Pass pass(PartId mover, PartId other, const Eigen::Vector3d& out, double length) {
+    const Eigen::Isometry3d& h = home_[mover];
+    const Key key = keyOf(mover, other, out, length);
+    if (const auto it = done_.find(key); it != done_.end()) {
+      Pass p = it->second;  // in the mover's home frame
+      if (p.least) {
+        p.least->part = other;
+        p.least->onPart = h * p.least->onPart;
+        p.least->onOther = h * p.least->onOther;
+      }
+      return p;
+    }
+    const ObjectId a = ObjectId::part(mover), b = ObjectId::part(other);
+    cw_.setPose(a, h);
+    Pass p;
+    p.seat = cw_.distance(a, b) <= cw_.tolerances().distance;
+    const double from = std::min(p.seat ? o_.threshold + o_.tolerance : 0.0, length);
+    // Once the mover's box has passed the other's along the way, every distance only grows.
+    const double end = std::clamp(along(cw_.worldBounds(b), out).second - along(cw_.worldBounds(a, h), out).first, from, length);
+    p.least = leastAlong(cw_, mover, other, h, out, from, end, o_);
+    cw_.setPose(a, h);
+    Pass local = p;
+    if (local.least) {
+      local.least->onPart = h.inverse() * local.least->onPart;
+      local.least->onOther = h.inverse() * local.least->onOther;
+    }
+    done_.emplace(key, local);
+    return p;
+  }
+
+ private:
+  struct Key {
+    const void* mover;
+    const void* other;
+    std::array<std::int64_t, 16> geometry;  // the other's pose in the mover's frame, the way, its length
+    auto operator<=>(const Key&) const = default;
+  };
+
+  [[nodiscard]] Key keyOf(PartId mover, PartId other, const Eigen::Vector3d& out, double length) const {
+    Key k{a_.parts[mover].mesh.get(), a_.parts[other].mesh.get(), {}};
+    const Eigen::Isometry3d relative = home_[mover].inverse() * home_[other];
+    const Eigen::Vector3d way = home_[mover].linear().transpose() * out;
+    const auto q = [](double v) { return static_cast<std::int64_t>(std::llround(v * 1e9)); };
+    std::size_t i = 0;
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) k.geometry[i++] = q(relative.linear()(r, c));
+    for (int c = 0; c < 3; ++c) k.geometry[i++] = q(relative.translation()[c]);
+    for (int c = 0; c < 3; ++c) k.geometry[i++] = q(way[c]);
+    k.geometry[i] = q(length);
+    return k;
+  }
+
+  collision::CollisionWorld& cw_;
+  const Assembly& a_;
+  const std::vector<Eigen::Isometry3d>& home_;
+  const WayClearanceOptions& o_;
+  std::map<Key, Pass> done_;
+};
 
 }  // namespace
 
@@ -61,7 +159,7 @@ std::vector<WayClearance> wayClearances(const Assembly& assembly, const Sequence
   Assembly together = assembly;
   for (PartId p = 0; p < together.parts.size(); ++p) together.parts[p].pose = home[p];
   collision::CollisionWorld cw(together);
-  const double touching = cw.tolerances().distance;
+  Walks walks(cw, assembly, home, options);
 
   std::vector<WayClearance> ways;
   std::vector<bool> in(assembly.parts.size(), false);
@@ -97,13 +195,10 @@ std::vector<WayClearance> wayClearances(const Assembly& assembly, const Sequence
     w.guides.erase(std::unique(w.guides.begin(), w.guides.end()), w.guides.end());
     for (const ObjectId& o : cw.near(box, mover)) {
       if (o.kind != ObjectId::Kind::Part || !in[o.index] || std::binary_search(w.guides.begin(), w.guides.end(), o.index)) continue;
-      cw.setPose(mover, home[p]);
-      const bool seat = cw.distance(mover, ObjectId::part(o.index)) <= touching;
-      if (seat) w.seatedOn.push_back(o.index);
-      auto least = leastAlong(cw, p, o.index, home[p], d.out, seat ? options.threshold + options.tolerance : 0.0, d.length, options);
-      if (least && (!seat || least->least < options.threshold)) w.objects.push_back(*least);
+      const Walks::Pass pass = walks.pass(p, o.index, d.out, d.length);
+      if (pass.seat) w.seatedOn.push_back(o.index);
+      if (pass.least && (!pass.seat || pass.least->least < options.threshold)) w.objects.push_back(*pass.least);
     }
-    cw.setPose(mover, home[p]);
     std::sort(w.seatedOn.begin(), w.seatedOn.end());
     std::sort(w.objects.begin(), w.objects.end(), [](const WayObject& x, const WayObject& y) {
       return x.least != y.least ? x.least < y.least : x.part < y.part;

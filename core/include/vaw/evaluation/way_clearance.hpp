@@ -23,7 +23,9 @@ namespace vaw::eval {
 struct WayClearanceOptions {
   double threshold = 0.005;  // m: a part passing closer than this to one it does not rest on is a near miss
   double reach = 0.05;       // m: parts never this close along the way are left out
-  double tolerance = 1e-4;   // m: each least distance is found to within this (never more than it is)
+  // m: each least distance found is at most this above the true one (or 5 % of how far it lies beyond the
+  // threshold, when that is more), and never below it.
+  double tolerance = 1e-4;
   double voxel = 0.0;        // m: the swept volume's voxel edge; 0 leaves the swept volume out
 };
 
