@@ -6,6 +6,8 @@
 // a base says why it has no order. The screenshots go to the build tree (tests/gui/sequence-*.png).
 //
 // Runs under Xvfb (Qt3D needs GL); any Qt warning fails the test.
+#include <QBrush>
+#include <QColor>
 #include <QDir>
 #include <QFile>
 #include <QLabel>
@@ -146,7 +148,19 @@ void TestSequence::findOrderSelectAndExport() {
     QVERIFY2(cell(row, SequenceModel::AfterColumn).contains(QStringLiteral("bracket (")),
              qPrintable(cell(row, SequenceModel::AfterColumn)));
     QVERIFY(cell(row, SequenceModel::AfterColumn).startsWith(QStringLiteral("bracket (partner, in its way), stud-")));
+    // Screwed down its stud beside the bracket's upright, 1 mm off: a near miss, in orange.
+    QCOMPARE(cell(row, SequenceModel::ClearanceColumn), QStringLiteral("1.015 mm to bracket"));
+    QVERIFY(model()->isNearMiss(row));
+    QCOMPARE(model()->index(row, SequenceModel::ClearanceColumn).data(Qt::BackgroundRole).value<QBrush>().color(), QColor(250, 200, 150));
+    const QString tip = model()->index(row, SequenceModel::ClearanceColumn).data(Qt::ToolTipRole).toString();
+    QVERIFY2(tip.contains(QStringLiteral("a near miss (under 5 mm)")) && tip.contains(QStringLiteral("Rests on bracket.")), qPrintable(tip));
   }
+  // The bracket slides down both studs onto the plate, nothing else near; the sleeve passes 5 mm off.
+  QCOMPARE(cell(bracket, SequenceModel::ClearanceColumn), QStringLiteral("clear"));
+  QVERIFY(!model()->isNearMiss(bracket));
+  QVERIFY(!model()->isNearMiss(rowNamed(QStringLiteral("sleeve"))));
+  QVERIFY2(dock()->hint()->text().contains(QStringLiteral("2 ways home pass a part already in closer than 5 mm (orange).")),
+           qPrintable(dock()->hint()->text()));
 
   // A row clicked selects its part in the window: the viewport, the simulation's highlight, the scene tree.
   const PartId bracketId = *assembly().findPart("bracket");
@@ -176,6 +190,10 @@ void TestSequence::findOrderSelectAndExport() {
   QVERIFY(QFile::exists(dir + QStringLiteral("/report.html")));
   QVERIFY(QFile::exists(dir + QStringLiteral("/parts.csv")));
   QVERIFY(readText(dir + QStringLiteral("/parts.csv")).contains(QStringLiteral("bracket")));
+  // With the panel's ways home: their table and ways.csv.
+  QVERIFY2(readText(dir + QStringLiteral("/ways.csv")).contains(QStringLiteral("\nnut-1,down: insert on stud-1,")),
+           qPrintable(readText(dir + QStringLiteral("/ways.csv"))));
+  QVERIFY(readText(dir + QStringLiteral("/report.html")).contains(QStringLiteral("<table id='ways'>")));
   QVERIFY2(readText(dir + QStringLiteral("/sessions.csv")).contains(QStringLiteral("this session")),
            qPrintable(readText(dir + QStringLiteral("/sessions.csv"))));
   QVERIFY2(window_->statusBar()->currentMessage().contains(dir + QStringLiteral("/report.html")),

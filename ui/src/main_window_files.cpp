@@ -354,6 +354,10 @@ void MainWindow::writeReport(const QString& dir) {
   }
   // What the worker reads, copied: the window goes on simulating, recording and editing meanwhile.
   auto order = std::make_shared<const vaw::eval::SequencePlan>(*plan);
+  // The ways home as the Sequence panel walked them (without swept volumes: the pictures show arrows).
+  auto ways = std::make_shared<vaw::report::WaysHome>();
+  ways->ways = sequenceDock_->ways();
+  ways->options = sequenceDock_->wayOptions();
   std::shared_ptr<const vaw::sim::Scene> recordedOn;
   auto session = std::make_shared<vaw::sim::Session>();
   if (simulation_->hasWorld() && simulation_->recorder().length() > 0) {
@@ -407,7 +411,8 @@ void MainWindow::writeReport(const QString& dir) {
       // The session replayed on the scene it was recorded on: a trial's scale is not the scene's.
       if (recordedOn) sessions.push_back(vaw::eval::sessionStats(recordedOn, *session, label, stage(0.0, replayShare)));
       const vaw::report::ReportFiles files =
-          vaw::report::writeReport(scene->assembly(), *order, sessions, where, stage(replayShare, 1.0 - replayShare));
+          vaw::report::writeReport(scene->assembly(), *order, sessions, where, stage(replayShare, 1.0 - replayShare),
+                                   ways->ways.empty() ? nullptr : ways.get());
       out.html = QFile::decodeName(files.html.string().c_str());
       if (!sessions.empty()) out.session = QString::number(sessions.front().duration_s, 'f', 2);
     } catch (const vaw::LoadCancelled&) {

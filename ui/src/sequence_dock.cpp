@@ -96,6 +96,31 @@ void SequenceModel::setPlan(const vaw::Assembly* assembly, const vaw::eval::Sequ
   endResetModel();
 }
 
+void SequenceModel::setWays(const vaw::Assembly& a, const std::vector<vaw::eval::WayClearance>& ways, double threshold) {
+  const auto mm = [](double m) { return QString::number(1e3 * m, 'f', 3); };
+  for (const vaw::eval::WayClearance& w : ways) {
+    const int row = rowOf(w.part);
+    if (row < 0) continue;
+    Row& r = rows_[static_cast<std::size_t>(row)];
+    const vaw::eval::WayObject* n = w.nearest();
+    r.nearMiss = w.nearMiss(threshold);
+    r.clearance = n ? tr("%1 mm to %2").arg(mm(n->least), str(a.parts[n->part].name)) : tr("clear");
+    QStringList tip;
+    if (n)
+      tip << tr("Passes %1 %2 mm off, %3 mm out from home%4.")
+                 .arg(str(a.parts[n->part].name), mm(n->least), mm(n->at),
+                      r.nearMiss ? tr(": a near miss (under %1 mm)").arg(1e3 * threshold) : QString());
+    else
+      tip << tr("Nothing already in comes within %1 mm of its way home.").arg(1e3 * vaw::eval::WayClearanceOptions{}.reach);
+    if (!w.guides.empty()) tip << tr("Slides on %1.").arg(names(a, w.guides));
+    if (!w.seatedOn.empty()) tip << tr("Rests on %1.").arg(names(a, w.seatedOn));
+    r.clearanceTip = tip.join(QLatin1Char(' '));
+  }
+  if (!rows_.empty()) emit dataChanged(index(0, ClearanceColumn), index(rowCount() - 1, ClearanceColumn));
+}
+
+bool SequenceModel::isNearMiss(int row) const { return row >= 0 && row < rowCount() && rows_[static_cast<std::size_t>(row)].nearMiss; }
+
 std::optional<vaw::PartId> SequenceModel::partAt(int row) const {
   if (row < 0 || row >= rowCount()) return std::nullopt;
   return rows_[static_cast<std::size_t>(row)].part;
@@ -124,6 +149,7 @@ QVariant SequenceModel::headerData(int section, Qt::Orientation orientation, int
       case StepColumn: return tr("Step");
       case PartColumn: return tr("Part");
       case HomeColumn: return tr("Comes home");
+      case ClearanceColumn: return tr("Clearance");
       case AfterColumn: return tr("After");
       default: return {};
     }
@@ -132,6 +158,10 @@ QVariant SequenceModel::headerData(int section, Qt::Orientation orientation, int
     switch (section) {
       case StepColumn: return tr("Parts of one step need no order among them; the base is step 0");
       case HomeColumn: return tr("The way the part comes in, and the constraint that gives it");
+      case ClearanceColumn:
+        return tr("The nearest part already in that the way home passes, and how close; orange: a near miss (under %1 mm), "
+                  "leaving out the parts it slides on and the last approach onto those it rests on")
+            .arg(1e3 * vaw::eval::WayClearanceOptions{}.threshold);
       case AfterColumn:
         return tr(
             "The parts it must follow. partner: it is constrained to that part; in its way: it would stand in the way "
@@ -151,11 +181,13 @@ QVariant SequenceModel::data(const QModelIndex& index, int role) const {
       case StepColumn: return r.step;
       case PartColumn: return r.name;
       case HomeColumn: return r.home;
+      case ClearanceColumn: return role == Qt::ToolTipRole ? r.clearanceTip : r.clearance;
       case AfterColumn: return r.after;
       default: return {};
     }
   }
   if (role == Qt::ForegroundRole && r.stuck) return QBrush(QColor(200, 0, 0));
+  if (role == Qt::BackgroundRole && r.nearMiss && index.column() == ClearanceColumn) return QBrush(QColor(250, 200, 150));
   return {};
 }
 
@@ -225,6 +257,7 @@ void SequenceDock::assemblyLoaded() {
   // Another scene, or this one with other constraints: the ways home and the order may differ.
   if (cancel_) cancel_->store(true);
   plan_.reset();
+  ways_.clear();
   model_->setPlan(nullptr, nullptr);
   hint_->setStyleSheet({});
   showIdle();
@@ -240,6 +273,7 @@ void SequenceDock::findOrder() {
   std::shared_ptr<const vaw::sim::Scene> scene = controller_.scene();
   if (!scene) return;
   plan_.reset();
+  ways_.clear();
   model_->setPlan(nullptr, nullptr);
   hint_->setStyleSheet({});
   hint_->setText(tr("Finding the order…"));
@@ -262,11 +296,14 @@ void SequenceDock::findOrder() {
         Qt::QueuedConnection);
     return !cancel->load();
   };
-  watcher_.setFuture(QtConcurrent::run([scene, progress] {
+  watcher_.setFuture(QtConcurrent::run([scene, progress, options = wayOptions_] {
     Outcome out;
     out.scene = scene;
     try {
-      out.plan = vaw::eval::planSequence(scene->assembly(), {}, progress);
+      // The ways home's walk is the search's last fifth or so, on the products measured (docs/evaluation.md).
+      out.plan = vaw::eval::planSequence(scene->assembly(), {}, [&](double f, const std::string& stage) { return progress(0.8 * f, stage); });
+      out.ways = vaw::eval::wayClearances(scene->assembly(), *out.plan, options,
+                                          [&](double f, const std::string& stage) { return progress(0.8 + 0.2 * f, stage); });
     } catch (const vaw::LoadCancelled&) {
       out.cancelled = true;
     } catch (const std::exception& e) {  // vaw::InputError: an assembly without a base has no order
@@ -293,12 +330,20 @@ void SequenceDock::finished() {
     return;
   }
   plan_ = std::move(out.plan);
+  ways_ = std::move(out.ways);
   const vaw::Assembly& a = out.scene->assembly();
   model_->setPlan(&a, &*plan_);
+  model_->setWays(a, ways_, wayOptions_.threshold);
   const int inserted = static_cast<int>(plan_->order.size()) - 1;
   QString text = plan_->complete()
                      ? tr("An order puts every part in place: %1 after the base.").arg(inserted)
                      : tr("No order inserts %1 of the parts (red): select one to see what blocks it.").arg(plan_->stuck.size());
+  const auto misses = std::count_if(ways_.begin(), ways_.end(), [this](const auto& w) { return w.nearMiss(wayOptions_.threshold); });
+  if (misses > 0)
+    text += QLatin1Char(' ') + (misses == 1 ? tr("1 way home passes a part already in closer than %1 mm (orange).").arg(1e3 * wayOptions_.threshold)
+                                            : tr("%1 ways home pass a part already in closer than %2 mm (orange).")
+                                                  .arg(misses)
+                                                  .arg(1e3 * wayOptions_.threshold));
   if (!plan_->skipped.empty())
     text += QLatin1Char(' ') + tr("Without a final pose, not in the order: %1.").arg(names(a, plan_->skipped));
   hint_->setText(text);

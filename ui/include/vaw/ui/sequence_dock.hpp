@@ -5,7 +5,9 @@
 // the order (each part's step, the way it comes home and the parts it must follow, and why), then in red
 // the parts no order inserts with what blocks each way home. A row selected selects its part in the
 // window; a part no order inserts also names its blockers in the status bar (the viewport highlights
-// one part at a time). A plan belongs to the scene it was found on: another scene clears it.
+// one part at a time). After the order, each way home is walked past the parts already in
+// (vaw::eval::wayClearances): the Clearance column names the nearest part each passes and how close,
+// orange for a near miss. A plan belongs to the scene it was found on: another scene clears it.
 #include <QAbstractTableModel>
 #include <QDockWidget>
 #include <QFutureWatcher>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/sim/scene.hpp"
 
 class QLabel;
@@ -30,12 +33,15 @@ class AssemblyController;
 class SequenceModel : public QAbstractTableModel {
   Q_OBJECT
  public:
-  enum Column { PositionColumn, StepColumn, PartColumn, HomeColumn, AfterColumn, ColumnCount };
+  enum Column { PositionColumn, StepColumn, PartColumn, HomeColumn, ClearanceColumn, AfterColumn, ColumnCount };
 
   explicit SequenceModel(QObject* parent = nullptr);
   // The order first, then the parts no order inserts; empty without a plan. Ways home are worded by
   // vaw::eval::travelText, as in the report.
   void setPlan(const vaw::Assembly* assembly, const vaw::eval::SequencePlan* plan);
+  // Each way home's nearest pass, for the rows of the plan set; `threshold` (m) marks near misses.
+  void setWays(const vaw::Assembly& assembly, const std::vector<vaw::eval::WayClearance>& ways, double threshold);
+  [[nodiscard]] bool isNearMiss(int row) const;
   [[nodiscard]] std::optional<vaw::PartId> partAt(int row) const;
   [[nodiscard]] int rowOf(vaw::PartId part) const;
   [[nodiscard]] bool isStuck(int row) const;
@@ -50,8 +56,8 @@ class SequenceModel : public QAbstractTableModel {
  private:
   struct Row {
     vaw::PartId part = 0;
-    bool stuck = false;
-    QString position, step, name, home, after, blockers;
+    bool stuck = false, nearMiss = false;
+    QString position, step, name, home, after, blockers, clearance, clearanceTip;
   };
   std::vector<Row> rows_;
 };
@@ -74,6 +80,9 @@ class SequenceDock : public QDockWidget {
   [[nodiscard]] bool finding() const { return finding_; }
   // The plan found for the loaded scene, or null.
   [[nodiscard]] const vaw::eval::SequencePlan* plan() const { return plan_ ? &*plan_ : nullptr; }
+  // Each way home of plan()'s order walked past the parts already in (no swept volumes); empty without a plan.
+  [[nodiscard]] const std::vector<vaw::eval::WayClearance>& ways() const { return ways_; }
+  [[nodiscard]] const vaw::eval::WayClearanceOptions& wayOptions() const { return wayOptions_; }
 
  public slots:
   // Starts the search on the loaded scene; while one runs, stops it.
@@ -94,6 +103,7 @@ class SequenceDock : public QDockWidget {
   struct Outcome {
     std::shared_ptr<const vaw::sim::Scene> scene;
     std::optional<vaw::eval::SequencePlan> plan;
+    std::vector<vaw::eval::WayClearance> ways;
     QString error;
     bool cancelled = false;
   };
@@ -109,6 +119,8 @@ class SequenceDock : public QDockWidget {
   QProgressBar* progress_ = nullptr;
   QLabel* hint_ = nullptr;
   std::optional<vaw::eval::SequencePlan> plan_;
+  std::vector<vaw::eval::WayClearance> ways_;
+  vaw::eval::WayClearanceOptions wayOptions_;
   std::shared_ptr<std::atomic<bool>> cancel_;
   QFutureWatcher<Outcome> watcher_;
   bool finding_ = false;
