@@ -305,9 +305,12 @@ int dispatch(int argc, char** argv) {
   vaw::app::SweepArgs sw;
   CLI::App* swCmd = app.add_subcommand(
       "sweep", "The volume a part's carried path in a recorded session sweeps, voxelised so that it holds the whole path, "
-               "and the path's clearance (docs/swept-volume.md); write DIR/swept.stl (binary, in the scene's unit and frame), "
+               "and the path's clearance (docs/swept-volume.md); given a scene instead, the part's way home from the order "
+               "search (docs/evaluation.md). Writes DIR/swept.stl (binary, in the scene's unit and frame), "
                "DIR/swept.step (a solid, through the STEP plugin), DIR/clearance.csv and DIR/summary.json.");
-  swCmd->add_option("SESSION", sw.clearance.session, "Recorded session (.vaw-session.json)")->required();
+  swCmd->add_option("SESSION_OR_SCENE", sw.clearance.session,
+                    "Recorded session (.vaw-session.json), or a scene, STEP or mesh file (or a bundled scene by its name) for a way home")
+      ->required();
   swCmd->add_option("--part", sw.clearance.part, "The part whose path is swept")->required();
   swCmd->add_option("--from", sw.clearance.from, "Start of the span, s (default: every step the part is INHAND or ONTOOL)");
   swCmd->add_option("--to", sw.clearance.to, "End of the span, s");

@@ -167,7 +167,7 @@ std::vector<WayClearance> wayClearances(const Assembly& assembly, const Sequence
     const PartId p = plan.order[i];
     const int k = plan.way[i];
     const PartCheck* check = plan.checkOf(p);
-    if (k < 0 || check == nullptr) {  // the base
+    if (k < 0 || check == nullptr || (options.only && p != *options.only)) {  // the base, or a way not asked for
       in[p] = true;
       continue;
     }

@@ -27,6 +27,7 @@ struct WayClearanceOptions {
   // threshold, when that is more), and never below it.
   double tolerance = 1e-4;
   double voxel = 0.0;        // m: the swept volume's voxel edge; 0 leaves the swept volume out
+  std::optional<PartId> only;  // this part's way alone (the parts before it in the order still count as in)
 };
 
 struct WayObject {
