@@ -41,13 +41,14 @@ const char* kFragmentShader = R"(#version 330 core
 in vec3 worldNormal;
 uniform vec3 color;
 uniform bool lit;
+uniform float alpha;
 out vec4 fragColor;
 void main() {
-  if (!lit) { fragColor = vec4(color, 1.0); return; }
+  if (!lit) { fragColor = vec4(color, alpha); return; }
   vec3 n = normalize(worldNormal);
   float key = abs(dot(n, normalize(vec3(0.35, -0.6, 0.75))));
   float fill = abs(dot(n, normalize(vec3(-0.5, 0.4, 0.3))));
-  fragColor = vec4(color * (0.30 + 0.60 * key + 0.20 * fill), 1.0);
+  fragColor = vec4(color * (0.30 + 0.60 * key + 0.20 * fill), alpha);
 }
 )";
 
@@ -162,6 +163,7 @@ GlRenderer::GlRenderer() {
   uViewProj_ = glGetUniformLocation(program_, "viewProj");
   uColor_ = glGetUniformLocation(program_, "color");
   uLit_ = glGetUniformLocation(program_, "lit");
+  uAlpha_ = glGetUniformLocation(program_, "alpha");
   const auto sphere = sphereVertices();
   sphere_ = upload(sphere, sphere.size() / view::kFloatsPerVertex);
   const auto cube = cubeVertices();
@@ -175,6 +177,7 @@ GlRenderer::~GlRenderer() {
     glDeleteVertexArrays(1, &m.vao);
   };
   for (auto& [key, mesh] : meshes_) release(mesh);
+  if (overlay_) release(overlay_->gpu);
   release(sphere_);
   release(cube_);
   if (depth_ != 0) glDeleteRenderbuffers(1, &depth_);
@@ -209,6 +212,17 @@ void GlRenderer::setScene(const view::SceneDescription& scene) {
   }
 }
 
+void GlRenderer::setOverlay(std::shared_ptr<const view::MeshBuffer> mesh, const view::Rgb& color, float alpha) {
+  if (overlay_) {
+    glDeleteBuffers(1, &overlay_->gpu.vbo);
+    glDeleteVertexArrays(1, &overlay_->gpu.vao);
+    overlay_.reset();
+  }
+  if (!mesh || mesh->vertexCount == 0) return;
+  const GpuMesh gpu = upload(mesh->vertices, mesh->vertexCount);
+  overlay_ = Overlay{std::move(mesh), gpu, color, alpha};
+}
+
 void GlRenderer::ensureTargets(int width, int height) {
   if (width == depthWidth_ && height == depthHeight_) return;
   if (depth_ == 0) glGenRenderbuffers(1, &depth_);
@@ -218,10 +232,11 @@ void GlRenderer::ensureTargets(int width, int height) {
   depthHeight_ = height;
 }
 
-void GlRenderer::draw(const GpuMesh& mesh, const Eigen::Matrix4f& model, const view::Rgb& color, bool lit) {
+void GlRenderer::draw(const GpuMesh& mesh, const Eigen::Matrix4f& model, const view::Rgb& color, bool lit, float alpha) {
   glUniformMatrix4fv(uModel_, 1, GL_FALSE, model.data());
   glUniform3f(uColor_, color.r, color.g, color.b);
   glUniform1i(uLit_, lit ? 1 : 0);
+  glUniform1f(uAlpha_, alpha);
   glBindVertexArray(mesh.vao);
   glDrawArrays(GL_TRIANGLES, 0, mesh.count);
 }
@@ -283,6 +298,20 @@ void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const
       draw(cube_, scaledAt(hand.joints[kPalm], Eigen::Vector3d(0.04, 0.04, 0.12)),
            closed || hand.select ? view::kHighlight : kController, true);
     }
+  }
+  // Last, over everything and hiding nothing: blended, depth tested but not written, front faces only so
+  // that each pixel is covered once.
+  if (overlay_) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthMask(GL_FALSE);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    glFrontFace(GL_CCW);
+    draw(overlay_->gpu, Eigen::Matrix4f::Identity(), overlay_->color, true, overlay_->alpha);
+    glDisable(GL_CULL_FACE);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_BLEND);
   }
   glBindVertexArray(0);
   glUseProgram(0);

@@ -9,6 +9,8 @@
 // tracked hands are drawn as a small sphere per joint (a box for a controller's grip).
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -36,6 +38,9 @@ class GlRenderer {
 
   // Uploads each distinct mesh of `scene` once and keeps a copy of what to draw.
   void setScene(const view::SceneDescription& scene);
+  // A world mesh drawn translucent after everything else (its back faces culled: it is closed and
+  // outward); null removes it.
+  void setOverlay(std::shared_ptr<const view::MeshBuffer> mesh, const view::Rgb& color, float alpha);
   // Draws into `colorTexture` (a 2D texture, e.g. a swapchain image) of `width` x `height` pixels.
   void render(std::uint32_t colorTexture, int width, int height, const EyeView& eye, const view::Frame* frame,
               const HandsSample& hands);
@@ -53,17 +58,24 @@ class GlRenderer {
     view::Rgb color;
   };
   GpuMesh upload(const std::vector<float>& vertices, std::size_t count);
-  void draw(const GpuMesh& mesh, const Eigen::Matrix4f& model, const view::Rgb& color, bool lit);
+  void draw(const GpuMesh& mesh, const Eigen::Matrix4f& model, const view::Rgb& color, bool lit, float alpha = 1.0f);
   void drawSegment(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double width, const view::Rgb& color);
   void ensureTargets(int width, int height);
 
   std::uint32_t program_ = 0;
-  std::int32_t uModel_ = -1, uViewProj_ = -1, uColor_ = -1, uLit_ = -1;
+  std::int32_t uModel_ = -1, uViewProj_ = -1, uColor_ = -1, uLit_ = -1, uAlpha_ = -1;
   std::uint32_t fbo_ = 0, depth_ = 0;
   int depthWidth_ = 0, depthHeight_ = 0;
   GpuMesh sphere_, cube_;
   std::unordered_map<const view::MeshBuffer*, GpuMesh> meshes_;
   std::vector<Item> items_;
+  struct Overlay {
+    std::shared_ptr<const view::MeshBuffer> mesh;  // kept while its upload is drawn
+    GpuMesh gpu;
+    view::Rgb color;
+    float alpha = 1.0f;
+  };
+  std::optional<Overlay> overlay_;
 };
 
 }  // namespace vaw::xr

@@ -123,6 +123,10 @@ class OpenXrBackend final : public Backend {
     if (renderer_) renderer_->setScene(scene);
   }
 
+  void setOverlay(std::shared_ptr<const view::MeshBuffer> mesh, const view::Rgb& color, float alpha) override {
+    if (renderer_) renderer_->setOverlay(std::move(mesh), color, alpha);
+  }
+
   std::vector<Event> poll() override {
     std::vector<Event> out;
     while (instance_ != XR_NULL_HANDLE && !finished_) {

@@ -19,6 +19,7 @@
 #include <memory>
 
 #include "gui_test_support.hpp"
+#include "vaw/primitives.hpp"
 #include "sim_runtime.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/trials/results.hpp"
@@ -113,6 +114,7 @@ class TestXr : public QObject {
   void trialsAreDroppedAndAnsweredWithTheHands();
   void noRuntimeAndNoHeadsetSaySo();
   void recenterPutsTheTableInFrontOfTheWearer();
+  void sweptVolumeShowsInTheHeadsetToo();
 
  private:
   [[nodiscard]] vaw::ui::SimulationController& sim() const { return window_->simulation(); }
@@ -585,6 +587,55 @@ void TestXr::recenterPutsTheTableInFrontOfTheWearer() {
   QVERIFY2(origin.norm() < 1e-3, qPrintable(QString::number(origin.norm())));
   QVERIFY2(gaze.normalized().y() > 0.999, "the world's +y is ahead of the wearer again");
   QVERIFY(notices_.join(QLatin1Char(' ')).contains(QStringLiteral("Recentred")));
+  checkSpecification();
+}
+
+// The desktop's swept volume (the Path panel's) is drawn in the headset too, translucent: a box round the
+// block shown before entering tints what is behind it blue without hiding it, and hidden in the headset
+// it is gone from the next frames.
+void TestXr::sweptVolumeShowsInTheHeadsetToo() {
+  open(QStringLiteral("block-on-plate.vaw.json"));
+  QJsonObject s{{QStringLiteral("duration"), 0.8}};
+  s[QStringLiteral("capture_at")] = QJsonArray{0.3, 0.7};
+  script(s);
+  const PartId block = *assembly().findPart("block");
+  vaw::TriMesh box = vaw::primitives::box(Eigen::Vector3d(0.25, 0.25, 0.25));
+  Eigen::Isometry3d at = Eigen::Isometry3d::Identity();
+  at.translation() = world().part(block).pose.translation();
+  box.transform(at);
+  window_->viewport()->showSweptVolume(vaw::view::flatShaded(box));
+  int frames = 0;
+  const auto hide = connect(&xr(), &vaw::ui::XrController::frameShown, this, [&] {
+    if (xr().lastFrame().rendered && ++frames == 45) window_->viewport()->showSweptVolume(nullptr);
+  });
+  runInHeadset();
+  disconnect(hide);
+  QVERIFY2(failures_.isEmpty(), qPrintable(failures_.isEmpty() ? QString() : failures_.front().second));
+  QVERIFY2(frames > 60, qPrintable(QString::number(frames)));
+  QCOMPARE(record().captures.size(), std::size_t{2});
+  const QImage with = toImage(record().captures[0].eyes[0]), without = toImage(record().captures[1].eyes[0]);
+  with.save(qEnvironmentVariable("VAW_XR_SHOT_DIR") + QStringLiteral("/xr-swept-volume.png"));
+  // The box covers a part of the view (about 5 %), and where it does the picture is bluer than without it, but
+  // not the box's own colour: what is behind shows through.
+  QVERIFY2(differingFraction(with, without) > 0.02, qPrintable(QString::number(differingFraction(with, without))));
+  double blueWith = 0.0, blueWithout = 0.0;
+  qsizetype n = 0, opaque = 0;
+  const QColor own = QColor::fromRgbF(vaw::ui::Viewport::kSweptColor.r, vaw::ui::Viewport::kSweptColor.g, vaw::ui::Viewport::kSweptColor.b);
+  for (int y = 0; y < with.height(); ++y)
+    for (int x = 0; x < with.width(); ++x) {
+      const QRgb a = with.pixel(x, y), b = without.pixel(x, y);
+      if (!vaw::guitest::differs(a, b, 12)) continue;
+      ++n;
+      blueWith += qBlue(a) - qRed(a);
+      blueWithout += qBlue(b) - qRed(b);
+      opaque += vaw::guitest::differs(a, own.rgb(), 6) ? 0 : 1;
+    }
+  QVERIFY(n > 0);
+  blueWith /= static_cast<double>(n);
+  blueWithout /= static_cast<double>(n);
+  QVERIFY2(blueWith > blueWithout + 20.0, qPrintable(QStringLiteral("%1 %2").arg(blueWith).arg(blueWithout)));
+  QVERIFY2(opaque < n / 20, qPrintable(QStringLiteral("%1 of %2 pixels are the box's own colour").arg(opaque).arg(n)));
+  QVERIFY(!window_->viewport()->sweptVolumeShown());
   checkSpecification();
 }
 

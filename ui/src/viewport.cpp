@@ -187,7 +187,10 @@ void Viewport::setScene(const vaw::view::SceneDescription* scene) {
   captureRing_ = captureLine_ = Overlay{};
   captureShown_.reset();
   swept_ = nullptr;
-  sweptMesh_.reset();
+  if (sweptMesh_) {
+    sweptMesh_.reset();
+    emit sweptVolumeChanged();
+  }
   sceneRoot_ = new Qt3DCore::QEntity(root_);
   partsBounds_.setEmpty();
   allBounds_.setEmpty();
@@ -416,16 +419,18 @@ void Viewport::showSweptVolume(std::shared_ptr<const vaw::view::MeshBuffer> mesh
   delete swept_;
   swept_ = nullptr;
   sweptMesh_ = std::move(mesh);
-  if (!sweptMesh_ || sceneRoot_ == nullptr) return;
-  swept_ = new Qt3DCore::QEntity(sceneRoot_);
-  swept_->setObjectName(QStringLiteral("sweptVolume"));
-  swept_->addComponent(makeRenderer(*sweptMesh_, swept_));
-  auto* material = new Qt3DExtras::QPhongAlphaMaterial(swept_);
-  material->setDiffuse(QColor(70, 140, 230));
-  material->setAmbient(QColor(40, 80, 140));
-  material->setSpecular(QColor(20, 20, 20));
-  material->setAlpha(0.3f);
-  swept_->addComponent(material);
+  if (sweptMesh_ && sceneRoot_ != nullptr) {
+    swept_ = new Qt3DCore::QEntity(sceneRoot_);
+    swept_->setObjectName(QStringLiteral("sweptVolume"));
+    swept_->addComponent(makeRenderer(*sweptMesh_, swept_));
+    auto* material = new Qt3DExtras::QPhongAlphaMaterial(swept_);
+    material->setDiffuse(QColor::fromRgbF(kSweptColor.r, kSweptColor.g, kSweptColor.b));
+    material->setAmbient(QColor(40, 80, 140));
+    material->setSpecular(QColor(20, 20, 20));
+    material->setAlpha(kSweptAlpha);
+    swept_->addComponent(material);
+  }
+  emit sweptVolumeChanged();
 }
 
 void Viewport::showCaptureZone(const std::optional<CaptureZone>& zone) {

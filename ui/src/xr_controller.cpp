@@ -39,6 +39,7 @@ XrController::XrController(SimulationController& simulation, Viewport* mirror, Q
   timer_.setSingleShot(true);
   connect(&timer_, &QTimer::timeout, this, &XrController::loop);
   connect(&simulation, &SimulationController::started, this, &XrController::sceneChanged);
+  if (mirror_) connect(mirror_, &Viewport::sweptVolumeChanged, this, &XrController::overlayChanged);
 }
 
 XrController::~XrController() {
@@ -217,6 +218,14 @@ void XrController::sceneChanged() {
   if (!makeCurrent(why)) return;
   backend_->setScene(simulation_->description());
   hands_.emplace(simulation_->world().assembly(), inputSettings_);
+  overlayChanged();
+}
+
+void XrController::overlayChanged() {
+  if (!backend_ || !mirror_) return;
+  QString why;
+  if (!makeCurrent(why)) return;
+  backend_->setOverlay(mirror_->sweptVolume(), Viewport::kSweptColor, Viewport::kSweptAlpha);
 }
 
 void XrController::loop() {

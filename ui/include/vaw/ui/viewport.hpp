@@ -122,6 +122,10 @@ class Viewport : public QWidget {
   // through; null hides it. A new scene hides it. Not picked: a click goes through it to the parts.
   void showSweptVolume(std::shared_ptr<const vaw::view::MeshBuffer> mesh);
   [[nodiscard]] bool sweptVolumeShown() const { return sweptMesh_ != nullptr; }
+  [[nodiscard]] const std::shared_ptr<const vaw::view::MeshBuffer>& sweptVolume() const { return sweptMesh_; }
+  // How the swept volume looks, here and in the headset.
+  static constexpr vaw::view::Rgb kSweptColor{70.0f / 255.0f, 140.0f / 255.0f, 230.0f / 255.0f};
+  static constexpr float kSweptAlpha = 0.3f;
   [[nodiscard]] const std::optional<CaptureZone>& captureZone() const { return captureShown_; }
 
   void showConstraintGeometry(const ConstraintGeometry& geometry);
@@ -155,6 +159,8 @@ class Viewport : public QWidget {
 
  signals:
   void partSelected(std::optional<vaw::PartId> part);
+  // showSweptVolume was called (the headset shows the same).
+  void sweptVolumeChanged();
   void grabStarted(vaw::PartId part, const Eigen::Vector3d& at, bool bothHands);
   void handMoved(const Eigen::Vector3d& at);
   void grabEnded();

@@ -11,6 +11,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,7 +20,7 @@
 
 namespace vaw::xr {
 
-inline constexpr int kAbiVersion = 2;  // 2: Backend::recenter
+inline constexpr int kAbiVersion = 3;  // 2: Backend::recenter; 3: Backend::setOverlay
 inline constexpr const char* kPluginFile = "libvaw_xr_openxr.so";
 
 // The 26 joints of XR_EXT_hand_tracking, in its order.
@@ -135,6 +136,9 @@ class Backend {
   [[nodiscard]] virtual const RuntimeInfo& runtime() const = 0;
   // What to draw from now on: uploads the meshes once.
   virtual void setScene(const view::SceneDescription& scene) = 0;
+  // A mesh in the world drawn translucent over the scene (a path's swept volume), `alpha` its opacity;
+  // null removes it. Kept across setScene.
+  virtual void setOverlay(std::shared_ptr<const view::MeshBuffer> mesh, const view::Rgb& color, float alpha) = 0;
   // The runtime's events since the last call, with any messages from the validation layer; begins and ends
   // the session as the states ask.
   [[nodiscard]] virtual std::vector<Event> poll() = 0;

@@ -93,6 +93,8 @@ class XrController : public QObject {
   vaw::sim::Input inputAt(double stepEndTime);
   void mirror(const xr::FrameResult& frame);
   void sceneChanged();
+  // The desktop's swept volume, drawn in the headset too.
+  void overlayChanged();
   void finish(std::optional<xr::Event> failure);
   void updateUi();
 
