@@ -214,6 +214,17 @@ nlohmann::json sweptJson(const sim::SweptVolume& sv, double voxelMm, const Assem
           {"step", step}};
 }
 
+// summary.json written, then everything put in place together under the folder's lock.
+void publishSweep(const std::filesystem::path& dir, SweptFiles& swept, AtomicFile& csv, const nlohmann::json& j) {
+  AtomicFile summary(dir / "summary.json");
+  summary << j.dump(2) << "\n";
+  summary.finish();
+  const DirectoryLock lock(dir);
+  swept.publish();
+  csv.publish();
+  summary.publish();
+}
+
 bool isSession(const std::string& file) {
   const std::string suffix = ".vaw-session.json";
   return file.size() >= suffix.size() && file.compare(file.size() - suffix.size(), suffix.size(), suffix) == 0;
@@ -271,15 +282,7 @@ int sweepWayHome(const SweepArgs& args, const ImporterRegistry& importers) {
                        {"on_part_mm", pointMm(ob.onPart)}, {"on_other_mm", pointMm(ob.onOther)}});
   j["clearance"] = {{"threshold_mm", c.thresholdMm}, {"reach_mm", c.reachMm}, {"near_miss", w.nearMiss(o.threshold)},
                     {"slides_on", names(w.guides)}, {"rests_on", names(w.seatedOn)}, {"objects", objects}};
-  AtomicFile summary(dir / "summary.json");
-  summary << j.dump(2) << "\n";
-  summary.finish();
-  {
-    const DirectoryLock lock(dir);
-    swept.publish();
-    csv.publish();
-    summary.publish();
-  }
+  publishSweep(dir, swept, csv, j);
   std::printf("%s's way home (%s, %.1f mm) swept %.1f cm^3 (%zu voxels of %g mm)\n", c.part.c_str(), j["way_home"]["comes_home"].get<std::string>().c_str(),
               1e3 * w.length, 1e6 * w.swept->volume, w.swept->voxels, args.voxelMm);
   if (const eval::WayObject* n = w.nearest())
@@ -318,15 +321,7 @@ int sweep(const SweepArgs& args) {
     nlohmann::json c;
     addClearance(c, r, args.clearance);
     j["clearance"] = c;
-    AtomicFile summary(dir / "summary.json");
-    summary << j.dump(2) << "\n";
-    summary.finish();
-    {
-      const DirectoryLock lock(dir);
-      swept.publish();
-      csv.publish();
-      summary.publish();
-    }
+    publishSweep(dir, swept, csv, j);
     std::printf("%s swept %.1f cm^3 (%zu voxels of %g mm, %zu moves, t %.4f to %.4f s)%s\n", partName.c_str(), 1e6 * sv.volume,
                 sv.voxels, args.voxelMm, sv.moves, sv.from, sv.to, sv.relativeToBase ? (", on " + a.parts[*a.base].name).c_str() : "");
     printClearance(r, partName, args.clearance);

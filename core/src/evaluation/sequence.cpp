@@ -19,13 +19,6 @@ namespace {
 
 using collision::ObjectId;
 
-// The interval a box covers along a unit direction.
-std::pair<double, double> along(const Eigen::AlignedBox3d& b, const Eigen::Vector3d& d) {
-  const double c = b.center().dot(d);
-  const double r = (0.5 * b.sizes()).dot(d.cwiseAbs());
-  return {c - r, c + r};
-}
-
 std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vector<Eigen::Isometry3d>& home) {
   std::vector<Direction> dirs;
   auto add = [&](Eigen::Vector3d out, std::string from, std::optional<std::size_t> constraint, bool axis) {
@@ -97,7 +90,7 @@ struct Sweep {
     // no farther ahead than the tolerance is behind the mover: at most touching it (a nut under the plate
     // it is screwed against, moved down), it cannot block, and the sweep of such a pair in contact was
     // among the costliest there are (a third of a thousand-part product's order).
-    const double ahead = along(world.worldBounds(ObjectId::part(obstacle)), out).second - along(box, out).first;
+    const double ahead = extentAlong(world.worldBounds(ObjectId::part(obstacle)), out).second - extentAlong(box, out).first;
     if (ahead <= toi.tolerance) return std::nullopt;
     const double reach = ahead + 2.0 * toi.tolerance;
     const double length = std::min(reach, whole);
@@ -190,7 +183,7 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   for (PartId p = 0; p < n; ++p) all.extend(world.worldBounds(ObjectId::part(p)));
   Sweep sweep(assembly, world, home, options);
   const auto whole = [&](PartId p, const Eigen::Vector3d& d) {
-    return along(all, d).second - along(world.worldBounds(ObjectId::part(p)), d).first + 2.0 * options.tolerance;
+    return extentAlong(all, d).second - extentAlong(world.worldBounds(ObjectId::part(p)), d).first + 2.0 * options.tolerance;
   };
   // Per part and way: does the base block it (-1 not swept yet); swept only when it decides something.
   std::vector<std::vector<int>> baseBlocks(n);
@@ -257,6 +250,12 @@ const Direction* SequencePlan::wayOf(PartId p) const {
   return c && k >= 0 ? &c->directions[static_cast<std::size_t>(k)] : nullptr;
 }
 
+std::pair<double, double> extentAlong(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& direction) {
+  const double c = box.center().dot(direction);
+  const double r = (0.5 * box.sizes()).dot(direction.cwiseAbs());
+  return {c - r, c + r};
+}
+
 std::vector<Eigen::Isometry3d> homePoses(const Assembly& assembly) {
   std::vector<Eigen::Isometry3d> home(assembly.parts.size());
   for (PartId p = 0; p < assembly.parts.size(); ++p) {
@@ -300,7 +299,7 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     const Eigen::AlignedBox3d box = world.worldBounds(mover);
     for (Direction& d : check.directions) {
       // Out until the part's trailing side has passed the assembly's leading side.
-      const double length = along(all, d.out).second - along(box, d.out).first + 2.0 * options.tolerance;
+      const double length = extentAlong(all, d.out).second - extentAlong(box, d.out).first + 2.0 * options.tolerance;
       d.length = length;
       Eigen::AlignedBox3d swept = box;
       swept.extend(box.min() + length * d.out).extend(box.max() + length * d.out);

@@ -18,13 +18,6 @@ namespace {
 
 using collision::ObjectId;
 
-// The interval a box covers along a unit direction.
-std::pair<double, double> along(const Eigen::AlignedBox3d& b, const Eigen::Vector3d& d) {
-  const double c = b.center().dot(d);
-  const double r = (0.5 * b.sizes()).dot(d.cwiseAbs());
-  return {c - r, c + r};
-}
-
 // The least distance from `mover` to `other` over the way, the mover at home + s * out for s in [from,
 // length]. Distance is 1-Lipschitz in s (no point moves farther than s changes), and so is the gap between
 // the two bounding boxes, which never exceeds it: from a point where either is d, nothing within d - b
@@ -100,7 +93,7 @@ class Walks {
     p.seat = cw_.distance(a, b) <= cw_.tolerances().distance;
     const double from = std::min(p.seat ? o_.threshold + o_.tolerance : 0.0, length);
     // Once the mover's box has passed the other's along the way, every distance only grows.
-    const double end = std::clamp(along(cw_.worldBounds(b), out).second - along(cw_.worldBounds(a, h), out).first, from, length);
+    const double end = std::clamp(extentAlong(cw_.worldBounds(b), out).second - extentAlong(cw_.worldBounds(a, h), out).first, from, length);
     p.least = leastAlong(cw_, mover, other, h, out, from, end, o_);
     cw_.setPose(a, h);
     Pass local = p;

@@ -101,6 +101,9 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
                                                            const SequenceOptions& options = {}, int* sweeps = nullptr,
                                                            const PairProgress& progress = {});
 
+// The interval a box covers along a unit direction: where a part's box starts and ends along its way.
+std::pair<double, double> extentAlong(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& direction);
+
 // The assembly put together: every part at its final pose; the base, and parts without a final pose,
 // where they stand. By PartId.
 std::vector<Eigen::Isometry3d> homePoses(const Assembly& assembly);
