@@ -150,24 +150,6 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
   }
 }
 
-std::string partNames(const Assembly& a, const std::vector<PartId>& parts) {
-  std::string out;
-  for (const PartId p : parts) out += (out.empty() ? "" : " ") + a.parts[p].name;
-  return out;
-}
-
-json waysJson(const Assembly& a, const report::WaysHome& ways) {
-  json parts = json::array();
-  for (const auto& w : ways.ways) {
-    json e{{"part", a.parts[w.part].name}, {"slides_on", partNames(a, w.guides)}, {"rests_on", partNames(a, w.seatedOn)},
-           {"near_miss", w.nearMiss(ways.options.threshold)}, {"length_m", w.length}};
-    if (const eval::WayObject* n = w.nearest()) e["nearest"] = {{"part", a.parts[n->part].name}, {"least_m", n->least}, {"at_m", n->at}};
-    if (w.swept) e["swept_volume_m3"] = w.swept->volume;
-    parts.push_back(e);
-  }
-  return {{"threshold_m", ways.options.threshold}, {"voxel_m", ways.options.voxel}, {"parts", parts}};
-}
-
 void printWays(const Assembly& a, const report::WaysHome& ways) {
   std::size_t misses = 0;
   for (const auto& w : ways.ways) misses += w.nearMiss(ways.options.threshold) ? 1 : 0;
@@ -228,7 +210,7 @@ int evaluate(const EvaluateArgs& args) {
     if (tty) std::fprintf(stderr, "\r%70s\r", "");
     if (args.json) {
       json j = toJson(a, plan, seconds);
-      if (ways) j["ways"] = waysJson(a, *ways);
+      if (ways) j["ways"] = report::waysJson(a, *ways);
       if (!sessions.empty()) {
         json rows = json::array();
         for (const auto& r : report::partRows(a, plan, sessions))

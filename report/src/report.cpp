@@ -340,6 +340,27 @@ std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const
   return rows;
 }
 
+json waysJson(const Assembly& a, const WaysHome& ways) {
+  const auto names = [&](const std::vector<PartId>& parts) {
+    std::vector<std::string> out;
+    for (const PartId q : parts) out.push_back(a.parts[q].name);
+    return out;
+  };
+  const auto xyz = [](const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); };
+  json parts = json::array();
+  for (const auto& w : ways.ways) {
+    json objects = json::array();
+    for (const auto& o : w.objects)
+      objects.push_back({{"part", a.parts[o.part].name}, {"least_m", o.least}, {"at_m", o.at}, {"on_part", xyz(o.onPart)}, {"on_other", xyz(o.onOther)}});
+    json e{{"part", a.parts[w.part].name}, {"out", xyz(w.out)}, {"length_m", w.length}, {"slides_on", names(w.guides)},
+           {"rests_on", names(w.seatedOn)}, {"near_miss", w.nearMiss(ways.options.threshold)}, {"objects", objects}};
+    if (w.swept) e["swept"] = {{"volume_m3", w.swept->volume}, {"voxel_m", w.swept->voxel}, {"voxels", w.swept->voxels}};
+    parts.push_back(e);
+  }
+  return {{"threshold_m", ways.options.threshold}, {"reach_m", ways.options.reach}, {"tolerance_m", ways.options.tolerance},
+          {"voxel_m", ways.options.voxel}, {"parts", parts}};
+}
+
 ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
                         const std::filesystem::path& dir, const ProgressFn& progress, const WaysHome* waysHome) {
   std::error_code ec;
@@ -432,7 +453,6 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
       "part,comes_home,length_mm,slides_on,rests_on,nearest,least_mm,at_mm,near_miss,swept_cm3,nearest_on_part_mm,nearest_on_other_mm\n";
   if (waysHome) {
     const auto point = [](const Eigen::Vector3d& v) { return formatNumber(1e3 * v.x()) + " " + formatNumber(1e3 * v.y()) + " " + formatNumber(1e3 * v.z()); };
-    json jw = json::array();
     for (const auto& w : waysHome->ways) {
       const Direction* way = plan.wayOf(w.part);
       const eval::WayObject* n = w.nearest();
@@ -441,20 +461,8 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                  (n ? csv(a.parts[n->part].name) + "," + formatNumber(1e3 * n->least) + "," + formatNumber(1e3 * n->at) : std::string(",,")) + "," +
                  (w.nearMiss(threshold) ? "yes" : "no") + "," + (w.swept ? formatNumber(1e6 * w.swept->volume) : std::string()) + "," +
                  (n ? point(n->onPart) + "," + point(n->onOther) : std::string(",")) + "\n";
-      json objects = json::array();
-      for (const auto& o : w.objects)
-        objects.push_back({{"part", a.parts[o.part].name}, {"least_m", o.least}, {"at_m", o.at},
-                           {"on_part", {o.onPart.x(), o.onPart.y(), o.onPart.z()}}, {"on_other", {o.onOther.x(), o.onOther.y(), o.onOther.z()}}});
-      std::vector<std::string> guides, seats;
-      for (const PartId q : w.guides) guides.push_back(a.parts[q].name);
-      for (const PartId q : w.seatedOn) seats.push_back(a.parts[q].name);
-      json e{{"part", a.parts[w.part].name}, {"out", {w.out.x(), w.out.y(), w.out.z()}}, {"length_m", w.length}, {"slides_on", guides},
-             {"rests_on", seats}, {"near_miss", w.nearMiss(threshold)}, {"objects", objects}};
-      if (w.swept) e["swept"] = {{"volume_m3", w.swept->volume}, {"voxel_m", w.swept->voxel}, {"voxels", w.swept->voxels}};
-      jw.push_back(e);
     }
-    j["ways"] = {{"threshold_m", threshold}, {"reach_m", waysHome->options.reach}, {"tolerance_m", waysHome->options.tolerance},
-                 {"voxel_m", waysHome->options.voxel}, {"parts", jw}};
+    j["ways"] = waysJson(a, *waysHome);
   }
 
   // report.html.

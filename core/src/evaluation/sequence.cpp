@@ -12,6 +12,7 @@
 
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/collision/time_of_impact.hpp"
+#include "case_key.hpp"
 
 namespace vaw::eval {
 
@@ -79,7 +80,7 @@ struct Sweep {
     const void* moverShape;
     const void* obstacleShape;
     bool alongAxis;
-    std::array<std::int64_t, 16> geometry;  // the obstacle's pose in the mover's frame, the way, the length
+    detail::CaseGeometry geometry;
     auto operator<=>(const Case&) const = default;
   };
   std::map<Case, std::optional<double>> decided;  // the block's distance (none: free); undecided not kept
@@ -123,17 +124,7 @@ struct Sweep {
     const Part& m = assembly.parts[mover];
     const Part& o = assembly.parts[obstacle];
     if (!m.mesh || !o.mesh) return std::nullopt;
-    Case c{m.mesh.get(), o.mesh.get(), alongAxis, {}};
-    const Eigen::Isometry3d relative = home[mover].inverse() * home[obstacle];
-    const Eigen::Vector3d way = home[mover].linear().transpose() * out;
-    const auto q = [](double v) { return static_cast<std::int64_t>(std::llround(v * 1e9)); };
-    std::size_t k = 0;
-    for (int r = 0; r < 3; ++r)
-      for (int col = 0; col < 3; ++col) c.geometry[k++] = q(relative.linear()(r, col));
-    for (int i = 0; i < 3; ++i) c.geometry[k++] = q(relative.translation()[i]);
-    for (int i = 0; i < 3; ++i) c.geometry[k++] = q(way[i]);
-    c.geometry[k] = q(length);
-    return c;
+    return Case{m.mesh.get(), o.mesh.get(), alongAxis, detail::caseGeometry(home[mover], home[obstacle], out, length)};
   }
 };
 

@@ -1,9 +1,7 @@
 #include "vaw/evaluation/way_clearance.hpp"
 
 #include <algorithm>
-#include <array>
 #include <compare>
-#include <cstdint>
 #include <map>
 #include <cmath>
 #include <limits>
@@ -11,6 +9,7 @@
 
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/error.hpp"
+#include "case_key.hpp"
 
 namespace vaw::eval {
 
@@ -35,19 +34,19 @@ std::optional<WayObject> leastAlong(collision::CollisionWorld& cw, PartId mover,
   // The last nearest points, the mover's carried along with it: they bound the next search.
   std::optional<collision::CollisionWorld::Nearest> hint;
   double hintAt = 0.0;
+  // The least found so far, capped at the reach, and how finely the walk must look for anything below it.
+  const auto bound = [&] { return best ? std::min(best->least, o.reach) : o.reach; };
+  const auto accuracy = [&](double least) { return std::max(o.tolerance, 0.05 * (least - o.threshold)); };
   double s = from;
   for (;;) {
-    const double bound = best ? std::min(best->least, o.reach) : o.reach;
-    const double accuracy = std::max(o.tolerance, 0.05 * (bound - o.threshold));
     const Eigen::AlignedBox3d box(moverBox.min() + s * out, moverBox.max() + s * out);
     double d = box.exteriorDistance(otherBox);
-    if (d - bound < accuracy) {
+    if (d - bound() < accuracy(bound())) {
       Eigen::Isometry3d pose = home;
       pose.pretranslate(s * out);
       cw.setPose(a, pose);
       if (hint) hint->onA += (s - hintAt) * out;
       const collision::CollisionWorld::Nearest n = cw.nearest(a, b, hint ? &*hint : nullptr);
-
       if (!std::isfinite(n.distance)) return std::nullopt;
       if (n.distance < o.reach && (!best || n.distance < best->least)) best = WayObject{other, n.distance, s, n.onA, n.onB};
       if (n.distance > 0.0) hint = n;
@@ -56,15 +55,13 @@ std::optional<WayObject> leastAlong(collision::CollisionWorld& cw, PartId mover,
       d = n.distance;
     }
     if (s >= end) break;
-    const double b2 = best ? std::min(best->least, o.reach) : o.reach;
-    s = std::min(end, s + std::max(d - b2, std::max(o.tolerance, 0.05 * (b2 - o.threshold))));
+    s = std::min(end, s + std::max(d - bound(), accuracy(bound())));
   }
   return best;
 }
 
-// Products repeat their parts: a walk is decided by the two shapes, where one stands relative to the
-// other, the way in the mover's frame and the span walked, so each such case is walked once and its answer
-// (in the mover's frame) reused, as the order search does with its sweeps (the key rounded to a nanometre).
+// Products repeat their parts: a walk is decided by the two shapes and their case (case_key.hpp), so each
+// case is walked once and its answer, in the mover's frame, reused, as the order search does with its sweeps.
 class Walks {
  public:
   Walks(collision::CollisionWorld& cw, const Assembly& a, const std::vector<Eigen::Isometry3d>& home, const WayClearanceOptions& o)
@@ -109,22 +106,12 @@ class Walks {
   struct Key {
     const void* mover;
     const void* other;
-    std::array<std::int64_t, 16> geometry;  // the other's pose in the mover's frame, the way, its length
+    detail::CaseGeometry geometry;
     auto operator<=>(const Key&) const = default;
   };
 
   [[nodiscard]] Key keyOf(PartId mover, PartId other, const Eigen::Vector3d& out, double length) const {
-    Key k{a_.parts[mover].mesh.get(), a_.parts[other].mesh.get(), {}};
-    const Eigen::Isometry3d relative = home_[mover].inverse() * home_[other];
-    const Eigen::Vector3d way = home_[mover].linear().transpose() * out;
-    const auto q = [](double v) { return static_cast<std::int64_t>(std::llround(v * 1e9)); };
-    std::size_t i = 0;
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c) k.geometry[i++] = q(relative.linear()(r, c));
-    for (int c = 0; c < 3; ++c) k.geometry[i++] = q(relative.translation()[c]);
-    for (int c = 0; c < 3; ++c) k.geometry[i++] = q(way[c]);
-    k.geometry[i] = q(length);
-    return k;
+    return Key{a_.parts[mover].mesh.get(), a_.parts[other].mesh.get(), detail::caseGeometry(home_[mover], home_[other], out, length)};
   }
 
   collision::CollisionWorld& cw_;

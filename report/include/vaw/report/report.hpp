@@ -5,6 +5,7 @@
 // that opens in a browser with nothing else installed, and the same numbers as CSV and JSON. Every file is
 // written through vaw::AtomicFile and published together, so a failed write leaves the previous report.
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +53,11 @@ struct WaysHome {
   std::vector<eval::WayClearance> ways;
   eval::WayClearanceOptions options;  // what they were measured with
 };
+
+// The ways home as numbers (metres), as evaluation.json and `vaw-sim evaluate --json` give them: the
+// options, and per way its part, direction out, length, what it slides on and rests on, whether it is a
+// near miss, every part within reach along it and its swept volume.
+nlohmann::json waysJson(const Assembly& assembly, const WaysHome& ways);
 
 // Writes report.html, parts.csv, sequence.csv, sessions.csv and evaluation.json (and ways.csv) into `dir` (created when
 // missing). Throws vaw::OutputError naming the file when one cannot be written. `progress` hears of each
