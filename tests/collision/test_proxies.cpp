@@ -188,3 +188,52 @@ TEST(Proxies, NearestPointsAreExactWithOrWithoutABound) {
   EXPECT_NEAR(w.nearest(a, c, &carried).distance, w.nearest(a, c).distance, 1e-15);
   EXPECT_NEAR(w.nearest(a, c).distance, free.distance - 0.03, 1e-12);
 }
+
+// A caller that needs no distance from some bound on (the clearance of an object that can change nothing
+// there) gets the bound back, marked beyond, with or without a pair to seed the search; under the bound
+// it gets the exact answer, as without one.
+TEST(Proxies, NearestStopsAtTheDistanceItIsToldNotToLookBeyond) {
+  ctest::SceneBuilder b;
+  b.part("a", primitives::box({0.02, 0.02, 0.02}), at(0, 0, 0));
+  b.part("b", primitives::cylinder(0.01, 0.04, 64), at(0.1, 0.003, 0));
+  CollisionWorld w(b.a);
+  const ObjectId a = ObjectId::part(0), c = ObjectId::part(1);
+  const CollisionWorld::Nearest exact = w.nearest(a, c);
+  ASSERT_FALSE(exact.beyond);
+  const CollisionWorld::Nearest cut = w.nearest(a, c, nullptr, 0.05);
+  EXPECT_TRUE(cut.beyond);
+  EXPECT_EQ(cut.distance, 0.05);
+  CollisionWorld::Nearest far;
+  far.onA = Eigen::Vector3d(-0.01, 0.0, 0.0);
+  far.onB = Eigen::Vector3d(0.11, 0.003, 0.0);
+  const CollisionWorld::Nearest seededCut = w.nearest(a, c, &far, 0.079);
+  EXPECT_TRUE(seededCut.beyond) << "0.079 m is under the true 0.08 m";
+  EXPECT_EQ(seededCut.distance, 0.079);
+  const CollisionWorld::Nearest under = w.nearest(a, c, &far, 0.081);
+  EXPECT_FALSE(under.beyond);
+  EXPECT_NEAR(under.distance, exact.distance, 1e-15);
+  EXPECT_NEAR((under.onA - under.onB).norm(), under.distance, 1e-12);
+}
+
+// Thin parts face to face, the case the hierarchy's split rule is for (docs/collision.md, "Hierarchies"):
+// a 60 mm disc 6 mm thick above a 100 mm one, tilted, turned and shifted about. Over the lower disc's flat
+// top (z = 3 mm), the distance is the height of the upper disc's lowest vertex above it.
+TEST(Proxies, ThinDiscsFaceToFaceMeasureExactly) {
+  ctest::SceneBuilder b;
+  b.part("lower", primitives::cylinder(0.05, 0.006, 96), at(0, 0, 0));
+  b.part("upper", primitives::cylinder(0.03, 0.006, 96), at(0, 0, 0.03));
+  CollisionWorld w(b.a);
+  const ObjectId lower = ObjectId::part(0), upper = ObjectId::part(1);
+  const TriMesh& disc = *b.a.parts[1].mesh;
+  for (int k = 0; k < 12; ++k) {
+    Eigen::Isometry3d pose = at(0.0025 * k - 0.014, 0.001 * k - 0.006, 0.01 + 0.002 * k);
+    pose.rotate(Eigen::AngleAxisd(0.01 * k, Eigen::Vector3d(1, 2, 0).normalized()));
+    pose.rotate(Eigen::AngleAxisd(0.3 * k, Eigen::Vector3d::UnitZ()));
+    w.setPose(upper, pose);
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3d& v : disc.vertices) lowest = std::min(lowest, (pose * v).z());
+    const CollisionWorld::Nearest n = w.nearest(lower, upper);
+    EXPECT_NEAR(n.distance, lowest - 0.003, 1e-12) << "pose " << k;
+    EXPECT_NEAR(n.onA.z(), 0.003, 1e-12) << "on the lower disc's top, pose " << k;
+  }
+}

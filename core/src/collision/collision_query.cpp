@@ -486,7 +486,7 @@ QueryResult CollisionWorld::queryAll(ObjectId a, const QueryOptions& options) co
 
 double CollisionWorld::distance(ObjectId a, ObjectId b) const { return distance(a, impl_->get(a).pose, b); }
 
-CollisionWorld::Nearest CollisionWorld::nearest(ObjectId a, ObjectId b, const Nearest* near) const {
+CollisionWorld::Nearest CollisionWorld::nearest(ObjectId a, ObjectId b, const Nearest* near, double atMost) const {
   const WorldObject& A = impl_->get(a);
   const WorldObject& B = impl_->get(b);
   Nearest n;
@@ -497,11 +497,16 @@ CollisionWorld::Nearest CollisionWorld::nearest(ObjectId a, ObjectId b, const Ne
   // FCL keeps what the result holds and prunes every pair of nodes no closer (its traversal's stop test):
   // seeded a hair above the known pair, the search finds the true pair and only looks near it.
   double seeded = std::numeric_limits<double>::infinity();
-  if (near) {
-    seeded = (near->onA - near->onB).norm() * (1.0 + 1e-9) + 1e-12;
-    res.min_distance = seeded;
-  }
+  if (near) seeded = (near->onA - near->onB).norm() * (1.0 + 1e-9) + 1e-12;
+  const bool bounded = atMost < seeded;
+  if (bounded) seeded = atMost;
+  if (std::isfinite(seeded)) res.min_distance = seeded;
   fcl::distance(A.geometry.get(), A.fclPose(A.pose), B.geometry.get(), B.fclPose(B.pose), req, res);
+  if (bounded && res.min_distance >= seeded) {
+    n.distance = atMost;
+    n.beyond = true;
+    return n;
+  }
   if (near && res.min_distance >= seeded) {
     n.distance = (near->onA - near->onB).norm();
     n.onA = near->onA;

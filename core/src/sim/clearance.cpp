@@ -75,7 +75,11 @@ struct ClearanceMeter::State {
   // How far any point of an object can have moved between two of its poses: the translation plus the
   // turn's angle times the object's largest distance from its own origin (found once, when first needed).
   std::map<std::size_t, double> radii;  // by position in `others`; the part's own under others.size()
-  std::vector<std::pair<double, std::size_t>> byGap;  // reused by every step
+  struct Candidate {
+    double estimate, gap;
+    std::size_t k;
+  };
+  std::vector<Candidate> order;  // reused by every step
 
   State(const std::shared_ptr<const Scene>& sc, std::string f, PartId p, const ClearanceOptions& o)
       : scene(sc), file(std::move(f)), part(p), options(o), span{o.from, o.to}, cw(sc->collision().instance()),
@@ -117,24 +121,33 @@ void ClearanceMeter::State::measure(const World& w) {
       placed[p] = w.part(p).pose;
       cw.setPose(ObjectId::part(p), placed[p]);
     }
-  // Nearest boxes first, so the step's least distance is found early and prunes the rest.
+  // Likely nearest first, so the step's least distance is found early and prunes the rest: by the last
+  // nearest points carried to this step (no farther apart than the two objects are), else by the boxes'
+  // gap. The boxes alone would put a housing round the part first, far from it though they overlap.
   const Eigen::AlignedBox3d box = cw.worldBounds(self);
-  byGap.clear();
-  for (std::size_t k = 0; k < others.size(); ++k) byGap.emplace_back(boxGap(box, cw.worldBounds(others[k])), k);
-  std::sort(byGap.begin(), byGap.end());
+  const Eigen::Isometry3d& partPose = cw.pose(self);
+  order.clear();
+  for (std::size_t k = 0; k < others.size(); ++k) {
+    const double gap = boxGap(box, cw.worldBounds(others[k]));
+    const auto& near = track[k].near;
+    order.push_back({near ? (partPose * near->first - cw.pose(others[k]) * near->second).norm() : gap, gap, k});
+  }
+  std::sort(order.begin(), order.end(),
+            [](const Candidate& x, const Candidate& y) { return std::tie(x.estimate, x.k) < std::tie(y.estimate, y.k); });
   ClearanceStep step;
   step.t = t;
   step.distance = kInf;
-  for (const auto& [gap, k] : byGap) {
+  for (const auto& [estimate, gap, k] : order) {
     Track& tr = track[k];
-    // Nothing this object can change: the step's nearest, its own row, a span.
-    const double rowBound = tr.seen ? tr.row.least : options.reach;
-    const Eigen::Isometry3d& partPose = cw.pose(self);
+    // From this distance on the object changes nothing: not the step's nearest, not its own row, not a
+    // span (a near miss below the threshold, a contact or interference at touching).
+    const double needed = std::max({step.distance, tr.seen ? tr.row.least : options.reach, options.threshold,
+                                    std::nextafter(touching, kInf)});
     const Eigen::Isometry3d& otherPose = cw.pose(others[k]);
     double atLeast = gap;
     if (tr.measured >= 0.0)
       atLeast = std::max(atLeast, tr.measured - moved(others.size(), partPose, tr.partThen) - moved(k, otherPose, tr.otherThen));
-    if (atLeast >= step.distance && atLeast >= rowBound && atLeast >= options.threshold) {
+    if (atLeast >= needed) {
       close(tr, k);
       continue;
     }
@@ -143,11 +156,16 @@ void ClearanceMeter::State::measure(const World& w) {
       hint.onA = partPose * tr.near->first;
       hint.onB = otherPose * tr.near->second;
     }
-    const collision::CollisionWorld::Nearest n = cw.nearest(self, others[k], tr.near ? &hint : nullptr);
+    const collision::CollisionWorld::Nearest n = cw.nearest(self, others[k], tr.near ? &hint : nullptr, needed);
     if (!std::isfinite(n.distance)) continue;
     tr.measured = n.distance;
     tr.partThen = partPose;
     tr.otherThen = otherPose;
+    // Proved no nearer than it matters; the last nearest points still lie on both surfaces.
+    if (n.beyond) {
+      close(tr, k);
+      continue;
+    }
     // Points of touching or interfering surfaces are FCL's pick among many: no bound for the next step.
     if (n.distance > 0.0) tr.near.emplace(partPose.inverse() * n.onA, otherPose.inverse() * n.onB);
     else tr.near.reset();

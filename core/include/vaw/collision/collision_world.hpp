@@ -248,11 +248,15 @@ class CollisionWorld {
   struct Nearest {
     double distance = std::numeric_limits<double>::infinity();
     Eigen::Vector3d onA = Eigen::Vector3d::Zero(), onB = Eigen::Vector3d::Zero();
+    bool beyond = false;  // `distance` is `atMost`, a lower bound; the points are unset
   };
   // `near`: two points, one on each surface at their poses (the last step's nearest points carried along):
   // the answer is never farther than they are, and the search leaves out everything farther, which makes a
-  // path's next step cost a fraction of the first.
-  [[nodiscard]] Nearest nearest(ObjectId a, ObjectId b, const Nearest* near = nullptr) const;
+  // path's next step cost a fraction of the first. `atMost`: a caller that needs no distance from it on
+  // gets any such distance back as `atMost`, marked `beyond`; the search then leaves out every pair of
+  // nodes that far apart, so proving that two parts stay apart costs less than measuring how far.
+  [[nodiscard]] Nearest nearest(ObjectId a, ObjectId b, const Nearest* near = nullptr,
+                                double atMost = std::numeric_limits<double>::infinity()) const;
   // Smallest distance between a (at poseA) and b; 0 when they intersect.
   [[nodiscard]] double distance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b) const;
   [[nodiscard]] double distance(ObjectId a, ObjectId b) const;
