@@ -157,13 +157,32 @@ TEST(Rays, HitMeshesAndPrimitivesExactly) {
   EXPECT_FALSE(w.castRay({0.5, 0.5, 1.0}, down, 0.5)) << "the table is farther than the ray";
 }
 
+namespace {
+
+// A 20 mm cube at the origin and a 10 mm cylinder (64 facets) standing 0.1 m along x: the cube's face at
+// x = 0.01 is 80 mm from the cylinder's side.
+ctest::SceneBuilder cubeAndCylinder() {
+  ctest::SceneBuilder b;
+  b.part("a", primitives::box({0.02, 0.02, 0.02}), at(0, 0, 0));
+  b.part("b", primitives::cylinder(0.01, 0.04, 64), at(0.1, 0.003, 0));
+  return b;
+}
+
+// A pair of surface points of that scene far from the nearest: the cube's far face, the cylinder's far side.
+CollisionWorld::Nearest farSides() {
+  CollisionWorld::Nearest far;
+  far.onA = Eigen::Vector3d(-0.01, 0.0, 0.0);
+  far.onB = Eigen::Vector3d(0.11, 0.003, 0.0);
+  return far;
+}
+
+}  // namespace
+
 // The nearest points of two meshes, in the world: exact, and the same when the search is bounded by a pair
 // of surface points (the clearance along a path hands it the last step's pair, docs/clearance.md); a bound
 // that is the nearest pair itself comes back as it is.
 TEST(Proxies, NearestPointsAreExactWithOrWithoutABound) {
-  ctest::SceneBuilder b;
-  b.part("a", primitives::box({0.02, 0.02, 0.02}), at(0, 0, 0));
-  b.part("b", primitives::cylinder(0.01, 0.04, 64), at(0.1, 0.003, 0));
+  const ctest::SceneBuilder b = cubeAndCylinder();
   CollisionWorld w(b.a);
   const ObjectId a = ObjectId::part(0), c = ObjectId::part(1);
   const CollisionWorld::Nearest free = w.nearest(a, c);
@@ -171,9 +190,7 @@ TEST(Proxies, NearestPointsAreExactWithOrWithoutABound) {
   EXPECT_NEAR(free.distance, 0.08, 2e-5);
   EXPECT_NEAR(free.onA.x(), 0.01, 1e-9);
   EXPECT_NEAR((free.onA - free.onB).norm(), free.distance, 1e-12);
-  CollisionWorld::Nearest far;
-  far.onA = Eigen::Vector3d(-0.01, 0.0, 0.0);  // the box's far face
-  far.onB = Eigen::Vector3d(0.11, 0.003, 0.0);  // the cylinder's far side
+  const CollisionWorld::Nearest far = farSides();
   const CollisionWorld::Nearest bounded = w.nearest(a, c, &far);
   EXPECT_NEAR(bounded.distance, free.distance, 1e-15);
   // Many pairs are nearest (an edge of the cylinder along the box's face): any of them, truly that far.
@@ -193,9 +210,7 @@ TEST(Proxies, NearestPointsAreExactWithOrWithoutABound) {
 // there) gets the bound back, marked beyond, with or without a pair to seed the search; under the bound
 // it gets the exact answer, as without one.
 TEST(Proxies, NearestStopsAtTheDistanceItIsToldNotToLookBeyond) {
-  ctest::SceneBuilder b;
-  b.part("a", primitives::box({0.02, 0.02, 0.02}), at(0, 0, 0));
-  b.part("b", primitives::cylinder(0.01, 0.04, 64), at(0.1, 0.003, 0));
+  const ctest::SceneBuilder b = cubeAndCylinder();
   CollisionWorld w(b.a);
   const ObjectId a = ObjectId::part(0), c = ObjectId::part(1);
   const CollisionWorld::Nearest exact = w.nearest(a, c);
@@ -203,9 +218,7 @@ TEST(Proxies, NearestStopsAtTheDistanceItIsToldNotToLookBeyond) {
   const CollisionWorld::Nearest cut = w.nearest(a, c, nullptr, 0.05);
   EXPECT_TRUE(cut.beyond);
   EXPECT_EQ(cut.distance, 0.05);
-  CollisionWorld::Nearest far;
-  far.onA = Eigen::Vector3d(-0.01, 0.0, 0.0);
-  far.onB = Eigen::Vector3d(0.11, 0.003, 0.0);
+  const CollisionWorld::Nearest far = farSides();
   const CollisionWorld::Nearest seededCut = w.nearest(a, c, &far, 0.079);
   EXPECT_TRUE(seededCut.beyond) << "0.079 m is under the true 0.08 m";
   EXPECT_EQ(seededCut.distance, 0.079);
