@@ -98,7 +98,10 @@ std::string wayPicture(const Assembly& a, const SequencePlan& plan, const std::v
   for (auto it = plan.order.begin(); it != upTo && it != plan.order.end(); ++it)
     pic.draw({a.parts[*it].mesh.get(), home[*it], Eigen::Vector3f(0.78f, 0.78f, 0.78f)});
   pic.draw({a.parts[w.part].mesh.get(), home[w.part], colorOf(a, w.part)});
-  if (w.swept) pic.draw({&w.swept->mesh, Eigen::Isometry3d::Identity(), Eigen::Vector3f(0.35f, 0.6f, 0.95f), 0.35f});
+  if (w.swept) {
+    const TriMesh space = w.swept->surface();
+    pic.draw({&space, Eigen::Isometry3d::Identity(), Eigen::Vector3f(0.35f, 0.6f, 0.95f), 0.35f});
+  }
   else {
     const Eigen::Vector3d centre = home[w.part] * a.parts[w.part].mass.centerOfMass;
     pic.arrow(centre + w.length * w.out, -w.out, w.length, Eigen::Vector3f(0.2f, 0.4f, 0.8f));

@@ -291,6 +291,10 @@ TEST(SweptVolume, RelativeToATurningBaseTheHeldPartSweepsAnArcOnIt) {
     ASSERT_LE(std::hypot(rr - rho, q.z() - 0.090), r + bound + 1e-9) << q.transpose();
   }
   expectClosedAndWhole(onBase);
+  // Made again from the grid (as for a volume kept without its mesh): the same mesh, in the same frame.
+  const TriMesh again = onBase.surface();
+  EXPECT_EQ(again.triangles, onBase.mesh.triangles);
+  EXPECT_EQ(again.vertices, onBase.mesh.vertices);
 
   // Asked of a scene's base itself, or of a span without steps: refused, naming the field.
   o.relativeToBase = true;

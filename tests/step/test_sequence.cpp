@@ -17,6 +17,7 @@
 #include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/error.hpp"
+#include "vaw/mesh.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace {
@@ -203,6 +204,14 @@ TEST(Sequence, WaysHomeNameWhatTheyPassAndHowClose) {
   EXPECT_TRUE(nut->swept->contains(wall)) << "the nut at home";
   EXPECT_TRUE(nut->swept->contains(wall + nut->length * nut->out)) << "the nut where it starts";
   EXPECT_FALSE(nut->swept->contains(centre + 0.5 * nut->length * nut->out)) << "its bore";
+  // Kept without its mesh (a thousand ways' meshes are hundreds of MB); made again, it encloses the voxels.
+  EXPECT_TRUE(nut->swept->mesh.triangles.empty());
+  const vaw::TriMesh space = nut->swept->surface();
+  EXPECT_TRUE(vaw::checkMesh(space).valid()) << vaw::checkMesh(space).summary();
+  double enclosed = 0.0;
+  for (const auto& t : space.triangles)
+    enclosed += space.vertices[t[0]].dot(space.vertices[t[1]].cross(space.vertices[t[2]])) / 6.0;
+  EXPECT_NEAR(enclosed, nut->swept->volume, 1e-6 * nut->swept->volume);
   // Options that are no lengths are refused, naming the field.
   o.tolerance = 0.0;
   EXPECT_THROW((void)vaw::eval::wayClearances(a, plan, o), vaw::InputError);

@@ -293,6 +293,16 @@ bool SweptVolume::contains(const Eigen::Vector3d& p) const {
   return (occupied[(static_cast<std::size_t>(z) * dims.y() + y) * rowWords + x / 64] >> (x % 64)) & 1U;
 }
 
+TriMesh SweptVolume::surface() const {
+  if (occupied.empty()) return {};
+  Bits occ(dims);
+  if (occ.w.size() != occupied.size()) throw std::logic_error("a swept volume's grid does not match its dimensions");
+  occ.w = occupied;
+  TriMesh m = vaw::sim::surface(occ, origin, voxel);
+  m.transform(frame);
+  return m;
+}
+
 SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel) {
   if (!(voxel > 0.0) || !std::isfinite(voxel)) throw std::invalid_argument("the voxel must be a positive length, not " + std::to_string(voxel));
   if (mesh.vertices.empty() || mesh.triangles.empty()) throw std::invalid_argument("the mesh to sweep has no triangles");

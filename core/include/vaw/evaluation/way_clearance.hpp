@@ -47,7 +47,9 @@ struct WayClearance {
   // Parts already in within reach along the way, nearest first; a seat only when it comes within the
   // threshold before the last approach.
   std::vector<WayObject> objects;
-  std::optional<sim::SweptVolume> swept; // the way's swept volume, when a voxel was given
+  // The way's swept volume, when a voxel was given: its grid and volume, without its mesh (surface() makes
+  // it again; a thousand ways' meshes held at once took 410 MB).
+  std::optional<sim::SweptVolume> swept;
 
   // The nearest part it passes, or nullptr when none comes within reach.
   [[nodiscard]] const WayObject* nearest() const { return objects.empty() ? nullptr : &objects.front(); }

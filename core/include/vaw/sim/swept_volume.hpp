@@ -29,6 +29,9 @@ struct SweptVolume {
 
   // Is `p` (assembly frame, m) in an occupied voxel.
   [[nodiscard]] bool contains(const Eigen::Vector3d& p) const;
+  // The occupied voxels' outer surface, made again from the grid: what `mesh` holds, for a volume kept
+  // without it (the ways home keep none: a thousand of them took 410 MB, docs/swept-volume.md).
+  [[nodiscard]] TriMesh surface() const;
 
   // The grid: voxel (i, j, k) spans frame * (origin + voxel * [i, i+1] x [j, j+1] x [k, k+1]). Rows along
   // i are padded to whole 64-bit words.
