@@ -27,9 +27,13 @@ double boxGap(const Eigen::AlignedBox3d& a, const Eigen::AlignedBox3d& b) {
 // touching allows (docs/collision.md). Faces lying on each other and a bore on its equal shaft touch,
 // whatever their tessellations do.
 bool interferes(const collision::CollisionWorld& cw, ObjectId part, ObjectId other) {
-  const collision::QueryResult r = cw.query(part, other);
-  return std::any_of(r.contacts.begin(), r.contacts.end(),
-                     [](const collision::Contact& c) { return c.penetration > c.allowance && !c.coplanar && !c.coaxial; });
+  // Touching pairs (coplanar ones among them, whose penetration is 0) and coaxial ones dropped in the
+  // traversal, so that the first pair kept answers.
+  collision::QueryOptions o;
+  o.mode = collision::FilterMode::SkipCoaxial;
+  o.dropTouching = true;
+  o.stopAtFirst = true;
+  return !cw.query(part, other, o).contacts.empty();
 }
 
 }  // namespace
