@@ -101,8 +101,7 @@ std::string wayPicture(const Assembly& a, const SequencePlan& plan, const std::v
   if (w.swept) {
     const TriMesh space = w.swept->surface();
     pic.draw({&space, Eigen::Isometry3d::Identity(), Eigen::Vector3f(0.35f, 0.6f, 0.95f), 0.35f});
-  }
-  else {
+  } else {
     const Eigen::Vector3d centre = home[w.part] * a.parts[w.part].mass.centerOfMass;
     pic.arrow(centre + w.length * w.out, -w.out, w.length, Eigen::Vector3f(0.2f, 0.4f, 0.8f));
   }
