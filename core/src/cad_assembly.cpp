@@ -526,7 +526,15 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     auto it = shared.find(&solid);
     if (it == shared.end()) {
       TriMesh mesh = solid.mesh;
-      detail::validateSolid(mesh, fileStr + " (product " + solid.product + ")", a.warnings, {});
+      // The B-rep is closed (the reader keeps no other); a tessellation that stays open after the reader's
+      // retries and the repair costs this part its exact collision, not the file.
+      const MeshCheck check =
+          detail::validateSolid(mesh, fileStr + " (product " + solid.product + ")", {}, detail::OpenMesh::Keep);
+      if (!check.closed() || !check.consistentlyOriented())
+        a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "product " + solid.product,
+                              "a closed tessellation (every edge shared by two triangles)",
+                              check.summary() + "; kept: its mass properties are the exact B-rep's, but its collision mesh "
+                                                "has gaps a part could pass through there"});
       Shared s;
       s.mesh = std::make_shared<const TriMesh>(std::move(mesh));
       if (!(solid.volume > 0.0) || !std::isfinite(solid.volume))

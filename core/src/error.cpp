@@ -5,6 +5,8 @@ namespace vaw {
 std::string Diagnostic::message() const {
   std::string m = file.empty() ? std::string("<input>") : file;
   if (!field.empty()) m += ": " + field;
+  // A note that names no expectation (a reader's warning passed on) is said as it is.
+  if (expected.empty()) return m + ": " + found;
   m += ": expected " + expected;
   if (!found.empty()) m += ", found " + found;
   return m;

@@ -10,9 +10,15 @@
 
 namespace vaw::detail {
 
-// Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid, naming
-// `file`.
-void validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings, const ProgressFn& progress);
+// What validateSolid does with a mesh that stays open after repairMesh: a mesh file's part has nothing
+// else to take its mass from, so it is refused; a CAD part's mass comes from its B-rep, so it is kept and
+// the caller warns.
+enum class OpenMesh { Refuse, Keep };
+
+// Welds and mends the mesh (repairMesh) and rejects meshes that are not a solid, naming `file`. Returns
+// the check after the repair (open only under OpenMesh::Keep). Triangles whose corners weld together are
+// the mesher's or the file's noise and go without a word; what they leave open is refused or reported.
+MeshCheck validateSolid(TriMesh& mesh, const std::string& file, const ProgressFn& progress, OpenMesh open = OpenMesh::Refuse);
 
 // Calls the user's progress callback over a sub-range and turns a "stop" answer into LoadCancelled.
 class Progress {

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdint>
 #include <sstream>
+#include <tuple>
+#include <unordered_map>
 #include <utility>
 
 namespace vaw {
@@ -188,12 +190,72 @@ bool indicesValid(const TriMesh& m, const Eigen::Vector3i& t) {
 }
 }  // namespace
 
-std::size_t removeDegenerateTriangles(TriMesh& mesh, double areaTolerance) {
+namespace {
+std::uint64_t directedEdge(int a, int b) {
+  return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 | static_cast<std::uint32_t>(b);
+}
+}  // namespace
+
+MeshRepair repairMesh(TriMesh& mesh, double weldTolerance, double areaTolerance) {
+  MeshRepair r;
+  r.welded = weldVertices(mesh, weldTolerance);
   const auto before = mesh.triangles.size();
   std::erase_if(mesh.triangles, [&](const Eigen::Vector3i& t) {
-    return indicesValid(mesh, t) && degenerate(mesh, t, areaTolerance);
+    return indicesValid(mesh, t) && (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]);
   });
-  return before - mesh.triangles.size();
+  r.removed = before - mesh.triangles.size();
+  // A split neighbour can itself be a sliver (a fan of them along one edge): a few passes take them all.
+  for (int pass = 0; pass < 8; ++pass) {
+    std::unordered_map<std::uint64_t, std::size_t> owner;  // directed edge -> its triangle
+    owner.reserve(mesh.triangles.size() * 3);
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+      if (indicesValid(mesh, mesh.triangles[i]))
+        for (int k = 0; k < 3; ++k) owner[directedEdge(mesh.triangles[i][k], mesh.triangles[i][(k + 1) % 3])] = i;
+    std::vector<char> gone(mesh.triangles.size(), 0);
+    bool changed = false;
+    const std::size_t count = mesh.triangles.size();
+    for (std::size_t i = 0; i < count; ++i) {
+      const Eigen::Vector3i t = mesh.triangles[i];
+      if (gone[i] || !indicesValid(mesh, t) || !degenerate(mesh, t, areaTolerance)) continue;
+      int k = 0;  // the longest edge t[k] -> t[k+1]; the third corner lies on it
+      double longest = -1.0;
+      for (int e = 0; e < 3; ++e) {
+        const double l = (mesh.vertices[static_cast<std::size_t>(t[(e + 1) % 3])] - mesh.vertices[static_cast<std::size_t>(t[e])]).squaredNorm();
+        if (l > longest) longest = l, k = e;
+      }
+      const int a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+      const auto across = owner.find(directedEdge(b, a));
+      gone[i] = 1;
+      changed = true;
+      if (across == owner.end() || across->second == i || gone[across->second]) {
+        ++r.removed;
+        continue;
+      }
+      // The neighbour (b, a, d) becomes (b, c, d) and (c, a, d): the quad b-c-a-d without the sliver.
+      const std::size_t j = across->second;
+      const Eigen::Vector3i& n = mesh.triangles[j];
+      int d = n[0];
+      for (int e = 0; e < 3; ++e)
+        if (n[e] != a && n[e] != b) d = n[e];
+      mesh.triangles[j] = Eigen::Vector3i(b, c, d);
+      mesh.triangles.emplace_back(c, a, d);
+      gone.push_back(0);
+      const std::size_t added = mesh.triangles.size() - 1;
+      owner.erase(directedEdge(a, b));
+      owner.erase(directedEdge(b, a));
+      for (const auto& [from, to, tri] : {std::tuple{b, c, j}, std::tuple{c, d, j}, std::tuple{d, b, j}, std::tuple{c, a, added},
+                                          std::tuple{a, d, added}, std::tuple{d, c, added}})
+        owner[directedEdge(from, to)] = tri;
+      ++r.mended;
+    }
+    std::size_t at = 0;
+    for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
+      if (!gone[i]) mesh.triangles[at++] = mesh.triangles[i];
+    mesh.triangles.resize(at);
+    if (!changed) break;
+  }
+  r.check = checkMesh(mesh, areaTolerance);
+  return r;
 }
 
 MeshCheck checkMesh(const TriMesh& mesh, double areaTolerance) {

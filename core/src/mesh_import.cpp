@@ -17,8 +17,7 @@ using detail::Progress;
 using detail::toString;
 using detail::validateSolid;
 
-// Welds, removes degenerate triangles (with a warning) and rejects meshes that are not a solid.
-void detail::validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& warnings, const ProgressFn& progressFn) {
+MeshCheck detail::validateSolid(TriMesh& mesh, const std::string& file, const ProgressFn& progressFn, OpenMesh open) {
   const Progress progress(progressFn);
   if (mesh.triangles.empty()) vaw::fail(file, "mesh", "a mesh with triangles", "no triangles");
   if (mesh.triangles.size() > limits::kMaxTriangles)
@@ -43,22 +42,21 @@ void detail::validateSolid(TriMesh& mesh, const std::string& file, Diagnostics& 
   if (badIndices > 0)
     vaw::fail(file, "triangles", "vertex indices within range", std::to_string(badIndices) + " triangles out of range");
   const double diag = mesh.bounds().diagonal().norm();
-  // STL stores every corner separately; welding them is routine, not worth a warning.
-  weldVertices(mesh, 1e-9 * diag);
+  // STL stores every corner separately, and slivers are mended without a hole: both routine, no warning.
+  const MeshRepair repair = repairMesh(mesh, 1e-9 * diag, 1e-14 * diag * diag);
   progress.report(0.5, "checking edges");
-  const std::size_t degenerate = removeDegenerateTriangles(mesh, 1e-14 * diag * diag);
-  if (degenerate > 0)
-    warnings.push_back({Diagnostic::Severity::Warning, file, "triangles", "triangles with non-zero area",
-                        std::to_string(degenerate) + " degenerate triangles removed"});
-  const MeshCheck c = checkMesh(mesh);
-  if (!c.closed()) vaw::fail(file, "mesh", "a closed mesh (every edge shared by exactly two triangles)", c.summary());
-  if (!c.consistentlyOriented())
-    vaw::fail(file, "mesh", "consistently oriented triangles (every edge traversed once each way)", c.summary());
+  const MeshCheck& c = repair.check;
+  if (open == OpenMesh::Refuse) {
+    if (!c.closed()) vaw::fail(file, "mesh", "a closed mesh (every edge shared by exactly two triangles)", c.summary());
+    if (!c.consistentlyOriented())
+      vaw::fail(file, "mesh", "consistently oriented triangles (every edge traversed once each way)", c.summary());
+  }
   progress.report(0.9, "volume");
   const double volume = integrateVolume(mesh).volume;
-  if (!(volume > 0.0))
+  if (open == OpenMesh::Refuse && !(volume > 0.0))
     vaw::fail(file, "mesh", "outward-facing triangles enclosing a positive volume",
               volume < 0.0 ? "volume " + toString(volume) + " m^3: the normals point inward (inverted)" : "zero volume");
+  return c;
 }
 
 namespace detail {
@@ -94,7 +92,7 @@ const Imported& MeshCache::get(const std::filesystem::path& file, double L, cons
   out.warnings = std::move(im.warnings);
   TriMesh mesh = out.root.merged();
   mesh.scale(L);
-  validateSolid(mesh, file.string(), warnings_, scaled.sub(0.6, 1.0));
+  validateSolid(mesh, file.string(), scaled.sub(0.6, 1.0));
   out.mesh = std::make_shared<const TriMesh>(std::move(mesh));
   return cache_.emplace(key, std::move(out)).first->second;
 }
@@ -160,7 +158,7 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
       progress.report(0.6 + 0.2 * static_cast<double>(i) / static_cast<double>(roots.size()), "part " + name);
       TriMesh mesh = n.merged();
       mesh.scale(L);
-      validateSolid(mesh, fileStr + " (node " + name + ")", a.warnings, {});
+      validateSolid(mesh, fileStr + " (node " + name + ")", {});
       ImportedNode node;
       node.name = name;
       Eigen::Vector3d centroid;
@@ -183,7 +181,7 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
     const ImportedNode& n = *roots[i];
     TriMesh mesh = n.merged();
     mesh.scale(L);
-    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), a.warnings, progress.sub(from, to));
+    validateSolid(mesh, fileStr + (n.name.empty() ? "" : " (node " + n.name + ")"), progress.sub(from, to));
     Part p;
     p.id = i;
     p.name = n.name.empty() || roots.size() == 1 ? file.stem().string() : n.name;

@@ -28,14 +28,12 @@ struct Imported {
 // Loads, converts and validates a mesh file; problems name the scene field that referenced it.
 class MeshCache {
  public:
-  MeshCache(const ImporterRegistry& importers, Diagnostics& warnings, ImportOptions options)
-      : importers_(importers), warnings_(warnings), options_(options) {}
+  MeshCache(const ImporterRegistry& importers, ImportOptions options) : importers_(importers), options_(options) {}
 
   const Imported& get(const std::filesystem::path& file, double L, const Node& field, const ProgressFn& progress);
 
  private:
   const ImporterRegistry& importers_;
-  Diagnostics& warnings_;
   ImportOptions options_;
   std::map<std::string, Imported> cache_;
 };

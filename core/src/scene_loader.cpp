@@ -25,7 +25,6 @@ using detail::MeshCache;
 using detail::Node;
 using detail::Progress;
 using detail::toString;
-using detail::validateSolid;
 
 namespace {
 
@@ -126,7 +125,7 @@ class SceneReader {
   SceneReader(const std::filesystem::path& file, const ImporterRegistry& importers, const LoadOptions& options,
               const ProgressFn& progress)
       : path_(file), file_(file.string()), dir_(file.parent_path()), options_(options), progress_(progress),
-        importers_(importers), meshes_(importers, assembly_.warnings, options.import) {}
+        importers_(importers), meshes_(importers, options.import) {}
 
   Assembly read() {
     progress_.report(0.0, "reading " + path_.filename().string());

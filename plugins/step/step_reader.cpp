@@ -25,12 +25,17 @@
 #include <XSControl_TransferReader.hxx>
 #include <XSControl_WorkSession.hxx>
 
+#include <algorithm>
 #include <cctype>
+#include <compare>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <optional>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -84,6 +89,70 @@ std::vector<std::string> failures(const Interface_CheckIterator& checks, const H
   return out;
 }
 
+// "#13-#19, #25" for entity numbers (sorted, each once), at most `shown` runs and a count of the rest.
+std::string entityRuns(std::vector<long> ids, std::size_t shown = 6) {
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  std::string out;
+  std::size_t runs = 0, i = 0;
+  for (; i < ids.size() && runs < shown; ++runs) {
+    std::size_t j = i;
+    while (j + 1 < ids.size() && ids[j + 1] == ids[j] + 1) ++j;
+    out += (out.empty() ? "#" : ", #") + std::to_string(ids[i]) + (j > i ? "-#" + std::to_string(ids[j]) : "");
+    i = j + 1;
+  }
+  if (i < ids.size()) out += " and " + std::to_string(ids.size() - i) + " more";
+  return out;
+}
+
+// A failed check in a person's words: what one entity has ("name is not a quoted string"), what many have,
+// and what was made of it; for the checks without a rewording, "entity" and Open CASCADE's own words.
+struct CheckKind {
+  std::string one, many, outcome;
+  auto operator<=>(const CheckKind&) const = default;
+};
+
+CheckKind checkKind(const std::string& message) {
+  // "Parameter n0.1 (property_definition.name) not a quoted String": a $ or a number where Part 21 wants a string.
+  static const std::regex notQuoted(R"(Parameter n[0-9.]+ \(([\w.]*?)(\w+)\) not a quoted String)");
+  std::smatch m;
+  if (std::regex_search(message, m, notQuoted)) {
+    const std::string field = m[2];
+    return {field + " is not a quoted string", field + "s are not quoted strings", "read as empty"};
+  }
+  return {"entity", "entities", message};
+}
+
+// One readable line per kind of failed check, counted, naming the entities: the check lists hold a line
+// per entity ("#13: Parameter n0.1 (name) not a quoted String").
+std::vector<std::string> checkSummary(const Interface_CheckIterator& checks, const Handle(Interface_InterfaceModel) & model) {
+  std::map<CheckKind, std::vector<long>> byKind;  // the kind -> the entities it is about
+  std::vector<CheckKind> order;
+  for (checks.Start(); checks.More(); checks.Next()) {
+    const Handle(Interface_Check)& check = checks.Value();
+    if (check.IsNull()) continue;
+    long id = checks.Number();
+    if (const Handle(Standard_Transient) entity = check->Entity(); !model.IsNull() && !entity.IsNull()) {
+      const Handle(TCollection_HAsciiString) label = model->StringLabel(entity);
+      if (!label.IsNull() && label->ToCString()[0] == '#') id = std::atol(label->ToCString() + 1);
+    }
+    for (Standard_Integer i = 1; i <= check->NbFails(); ++i) {
+      const CheckKind kind = checkKind(check->CFail(i));
+      auto [it, added] = byKind.try_emplace(kind);
+      if (added) order.push_back(kind);
+      if (id > 0) it->second.push_back(id);
+    }
+  }
+  std::vector<std::string> out;
+  for (const CheckKind& kind : order) {
+    const std::vector<long>& ids = byKind[kind];
+    const std::size_t n = std::max<std::size_t>(ids.size(), 1);
+    const std::string where = ids.empty() ? std::string() : " (" + entityRuns(ids) + ")";
+    out.push_back(std::to_string(n) + " " + (n == 1 ? kind.one : kind.many) + where + ": " + kind.outcome);
+  }
+  return out;
+}
+
 std::string labelName(const TDF_Label& label) {
   Handle(TDataStd_Name) name;
   if (label.IsNull() || !label.FindAttribute(TDataStd_Name::GetID(), name)) return {};
@@ -100,12 +169,19 @@ bool kernelName(const std::string& name) {
   return s.find_first_not_of("0123456789:") == std::string::npos && s.find(':') != std::string::npos;
 }
 
+// What CAD systems and Open CASCADE write where a shape has no name of its own: the kind of shape ("SOLID",
+// "Body1", "Solid.2"). A part named so says nothing; its product's or its instance's name is used instead.
+bool genericName(const std::string& name) {
+  static const std::regex generic(R"((solid|shell|compound|compsolid|face|body|brep|mesh)[ ._#-]*[0-9]*)", std::regex::icase);
+  return kernelName(name) || std::regex_match(name, generic);
+}
+
 // A label's own name, else its nearest ancestor's that is a real name (a product with several
 // representations keeps its name on the product, not on the shape), up to the shapes' root.
 std::string productName(TDF_Label label) {
   for (int depth = 0; !label.IsNull() && depth < 4; ++depth, label = label.Father()) {
     const std::string name = labelName(label);
-    if (!name.empty() && !kernelName(name)) return name;
+    if (!name.empty() && !genericName(name)) return name;
     if (label.Depth() <= 3) break;  // 0:1:1 is the shapes' root, named by nothing in the file
   }
   return {};
@@ -159,7 +235,7 @@ json Reader::read(const std::filesystem::path& file, const std::filesystem::path
     for (std::size_t i = 0; i < why.size() && i < 3; ++i) found += (i == 0 ? ": " : "; ") + why[i];
     throw BadFile{"", "a STEP file Open CASCADE can parse", found};
   }
-  for (const auto& w : failures(ws->ModelCheckList(false), model, 5)) warnings_.push_back("syntax check: " + w);
+  for (const auto& w : checkSummary(ws->ModelCheckList(false), model)) warnings_.push_back("syntax check: " + w);
 
   // The unit the file declared, before OCCT converts it to millimetres.
   TColStd_SequenceOfAsciiString lengthUnits, angleUnits, solidAngleUnits;
@@ -178,7 +254,7 @@ json Reader::read(const std::filesystem::path& file, const std::filesystem::path
     throw BadFile{"", "a STEP file with at least one solid", "no solid in the file (nothing Open CASCADE could transfer)"};
   const Handle(Transfer_TransientProcess) tp = ws->TransferReader()->TransientProcess();
   if (!tp.IsNull())
-    for (const auto& w : failures(tp->CheckList(false), model, 10)) warnings_.push_back("transfer check: " + w);
+    for (const auto& w : checkSummary(tp->CheckList(false), model)) warnings_.push_back("transfer check: " + w);
 
   shapes_ = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
   colors_ = XCAFDoc_DocumentTool::ColorTool(doc->Main());
@@ -210,7 +286,14 @@ json Reader::read(const std::filesystem::path& file, const std::filesystem::path
   } else {
     root = {{"name", file.stem().string()}, {"children", top}};
   }
-  json out = {{"version", vaw::step::kResultVersion}, {"format", format}, {"warnings", warnings_}, {"solids", std::move(solids)}, {"root", std::move(root)}};
+  // The same warning for many products (six surface bodies skipped) is one line with its count.
+  std::vector<std::string> warnings;
+  std::map<std::string, std::size_t> times;
+  for (const std::string& w : warnings_)
+    if (times[w]++ == 0) warnings.push_back(w);
+  for (std::string& w : warnings)
+    if (times[w] > 1) w += " (" + std::to_string(times[w]) + " times)";
+  json out = {{"version", vaw::step::kResultVersion}, {"format", format}, {"warnings", warnings}, {"solids", std::move(solids)}, {"root", std::move(root)}};
   if (!unit.empty()) out["unit"] = unit;
   return out;
 }
@@ -221,11 +304,32 @@ std::optional<Quantity_Color> Reader::colorOf(const TDF_Label& label) const {
   return std::nullopt;
 }
 
+// A product with several shape representations (a solid beside a surface body or an empty wireframe, as
+// Pro/ENGINEER and Fusion 360 write them) reaches XCAF as an assembly whose components are its
+// representations, placed where the product is and named by Open CASCADE after their labels. It is one
+// part: the product, holding what its representations hold.
+// What tells them from an assembly whose instances are unnamed: each representation is placed where the
+// product is (no placement of its own) and named by the kind of shape it is, never like a product.
+bool severalRepresentations(const TDF_Label& label) {
+  TDF_LabelSequence components;
+  XCAFDoc_ShapeTool::GetComponents(label, components, false);
+  if (components.Length() == 0) return false;
+  for (Standard_Integer i = 1; i <= components.Length(); ++i) {
+    const TDF_Label& c = components.Value(i);
+    TDF_Label ref;
+    if (!kernelName(labelName(c)) || !XCAFDoc_ShapeTool::GetReferredShape(c, ref) || XCAFDoc_ShapeTool::IsAssembly(ref) ||
+        !XCAFDoc_ShapeTool::GetLocation(c).IsIdentity())
+      return false;
+    if (const std::string own = labelName(ref); !own.empty() && !genericName(own)) return false;
+  }
+  return true;
+}
+
 Reader::Node Reader::collect(const TDF_Label& label, const std::string& instanceName, const TopLoc_Location& location,
              const std::optional<Quantity_Color>& color, int depth) {
   Node node;
   const std::string product = productName(label);
-  node.name = instanceName.empty() || kernelName(instanceName) ? product : instanceName;
+  node.name = instanceName.empty() || genericName(instanceName) ? product : instanceName;
   node.location = location;
   node.color = color;
   if (depth > vaw::step::kMaxAssemblyDepth) {
@@ -233,7 +337,7 @@ Reader::Node Reader::collect(const TDF_Label& label, const std::string& instance
                         std::to_string(vaw::step::kMaxAssemblyDepth) + " levels");
     return node;
   }
-  if (shapes_->IsAssembly(label)) {
+  if (shapes_->IsAssembly(label) && !severalRepresentations(label)) {
     TDF_LabelSequence components;
     XCAFDoc_ShapeTool::GetComponents(label, components, false);
     for (Standard_Integer i = 1; i <= components.Length(); ++i) {

@@ -95,6 +95,8 @@ class Reader {
   // Tessellates and measures one product's solids in its own frame; leaves p.solid null (with a warning)
   // when it has none worth simulating.
   void measure(Product& p);
+  // `solid` (meshed) or a copy of it meshed again, whichever leaves its tessellation closed or least open.
+  TopoDS_Shape closeTessellation(const TopoDS_Shape& solid, double diagonal, double deflection) const;
   // Some exporters colour the solid (a sub-shape label), not the product.
   std::optional<Quantity_Color> shapeColor(const TopoDS_Shape& kept) const;
   std::optional<json> emit(const Node& n, const std::vector<int>& index) const;

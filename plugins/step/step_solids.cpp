@@ -2,6 +2,7 @@
 // their exact mass properties (adaptive Gauss integration, 1e-9), their tessellation, and their faces
 // classified (step_faces.cpp), in metres.
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepGProp.hxx>
 #include <BRepMesh_Context.hxx>
@@ -10,30 +11,38 @@
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <IMeshTools_Parameters.hxx>
 #include <BRep_Builder.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <Geom2d_Line.hxx>
+#include <Geom2d_TrimmedCurve.hxx>
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
 #include <Poly_Triangulation.hxx>
 #include <Quantity_Color.hxx>
+#include <TDF_LabelSequence.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
+#include <TopoDS_Iterator.hxx>
 #include <TopoDS_Face.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
+#include <TopTools_MapOfShape.hxx>
 #include <XCAFDoc_ShapeTool.hxx>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "step_reader.hpp"
 #include "step_result.hpp"
+#include "vaw/mesh.hpp"
 
 namespace vaw::step::reader {
 
@@ -54,7 +63,116 @@ json blob(const std::vector<T>& v) {
 
 json point(const gp_XYZ& p, double scale) { return json::array({p.X() * scale, p.Y() * scale, p.Z() * scale}); }
 
+// Open CASCADE's incremental mesher with Delabella's Delaunay triangulation, not its default: a planar face
+// with hundreds of holes (a large base plate) took the default seconds, all of it in its circumcircle search.
+void tessellate(const TopoDS_Shape& shape, double deflection, double angle) {
+  IMeshTools_Parameters parameters;
+  parameters.Deflection = deflection;
+  parameters.Angle = angle;
+  // The faces meshed on every core (each face alone, so the result does not depend on it).
+  parameters.InParallel = Standard_True;
+  BRepMesh_IncrementalMesh mesher;
+  mesher.SetShape(shape);
+  mesher.ChangeParameters() = parameters;
+  Handle(IMeshTools_Context) context = new BRepMesh_Context();
+  context->SetFaceDiscret(new BRepMesh_FaceDiscret(new BRepMesh_DelabellaMeshAlgoFactory()));
+  mesher.Perform(context);
+}
+
+// The edges a solid's tessellation leaves open once welded and mended as the core will (vaw::repairMesh); a
+// face the mesher left without triangles shows as its boundary. The mesher's own status is no guide:
+// Delabella returns part of a face without a failure.
+std::size_t openEdges(const TopoDS_Shape& solid, double diagonal) {
+  vaw::TriMesh m;
+  for (TopExp_Explorer e(solid, TopAbs_FACE); e.More(); e.Next()) {
+    const TopoDS_Face face = TopoDS::Face(e.Current());
+    TopLoc_Location loc;
+    const Handle(Poly_Triangulation) tri = BRep_Tool::Triangulation(face, loc);
+    if (tri.IsNull()) continue;
+    const gp_Trsf t = loc.Transformation();
+    const auto base = static_cast<int>(m.vertices.size());
+    for (Standard_Integer i = 1; i <= tri->NbNodes(); ++i) {
+      const gp_Pnt q = tri->Node(i).Transformed(t);
+      m.vertices.emplace_back(q.X(), q.Y(), q.Z());
+    }
+    const bool reversed = face.Orientation() == TopAbs_REVERSED;
+    for (Standard_Integer i = 1; i <= tri->NbTriangles(); ++i) {
+      Standard_Integer a, b, c;
+      tri->Triangle(i).Get(a, b, c);
+      if (reversed) std::swap(b, c);
+      m.triangles.emplace_back(base + a - 1, base + b - 1, base + c - 1);
+    }
+  }
+  if (m.triangles.empty()) return std::numeric_limits<std::size_t>::max();
+  const vaw::MeshCheck check = vaw::repairMesh(m, 1e-9 * diagonal, 1e-14 * diagonal * diagonal).check;
+  return check.boundaryEdges + check.nonManifoldEdges;
+}
+
+// A straight parameter line within 1e-9 of an axis made exactly parallel to it, or null when it is not such
+// a line. A cone's seam written 3e-16 off the v direction leaves the mesher without a triangle on that face.
+Handle(Geom2d_Curve) snapped(const Handle(Geom2d_Curve) & curve) {
+  Handle(Geom2d_Line) line = Handle(Geom2d_Line)::DownCast(curve);
+  if (const Handle(Geom2d_TrimmedCurve) trimmed = Handle(Geom2d_TrimmedCurve)::DownCast(curve); !trimmed.IsNull())
+    line = Handle(Geom2d_Line)::DownCast(trimmed->BasisCurve());
+  if (line.IsNull()) return {};
+  const gp_Dir2d d = line->Direction();
+  gp_Dir2d exact = d;
+  if (std::abs(d.X()) < 1e-9 && d.X() != 0.0) exact = gp_Dir2d(0.0, d.Y() > 0.0 ? 1.0 : -1.0);
+  else if (std::abs(d.Y()) < 1e-9 && d.Y() != 0.0) exact = gp_Dir2d(d.X() > 0.0 ? 1.0 : -1.0, 0.0);
+  else return {};
+  return new Geom2d_Line(line->Location(), exact);
+}
+
+// A copy of `solid`, without its tessellation, whose nearly axis-parallel parameter lines are exact.
+TopoDS_Shape withSnappedParameterLines(const TopoDS_Shape& solid) {
+  const TopoDS_Shape copy = BRepBuilderAPI_Copy(solid, Standard_True, Standard_False).Shape();
+  BRep_Builder builder;
+  for (TopExp_Explorer f(copy, TopAbs_FACE); f.More(); f.Next()) {
+    // Forward: Open CASCADE hands out a reversed face's seam curves the other way round, while UpdateEdge
+    // takes them in the edge's own order.
+    const TopoDS_Face face = TopoDS::Face(f.Current().Oriented(TopAbs_FORWARD));
+    TopTools_MapOfShape done;
+    for (TopExp_Explorer e(face, TopAbs_EDGE); e.More(); e.Next()) {
+      const TopoDS_Edge edge = TopoDS::Edge(e.Current().Oriented(TopAbs_FORWARD));
+      if (!done.Add(edge)) continue;
+      const double tol = BRep_Tool::Tolerance(edge);
+      Standard_Real first, last;
+      const Handle(Geom2d_Curve) c1 = BRep_Tool::CurveOnSurface(edge, face, first, last);
+      if (c1.IsNull()) continue;
+      if (BRep_Tool::IsClosed(edge, face)) {  // a seam: one parameter line on each side
+        const Handle(Geom2d_Curve) c2 = BRep_Tool::CurveOnSurface(TopoDS::Edge(edge.Reversed()), face, first, last);
+        const Handle(Geom2d_Curve) s1 = snapped(c1), s2 = c2.IsNull() ? Handle(Geom2d_Curve)() : snapped(c2);
+        if (!s1.IsNull() || !s2.IsNull()) builder.UpdateEdge(edge, s1.IsNull() ? c1 : s1, s2.IsNull() ? c2 : s2, face, tol);
+      } else if (const Handle(Geom2d_Curve) s1 = snapped(c1); !s1.IsNull()) {
+        builder.UpdateEdge(edge, s1, face, tol);
+      }
+    }
+  }
+  return copy;
+}
+
 }  // namespace
+
+// A solid whose tessellation is open although its B-rep is closed is meshed again: with its parameter lines
+// snapped, then finer (a tenth of the deflection: chords across edges a fraction of a millimetre long), then
+// both; the first that closes is kept, else the one with the fewest open edges, which the core keeps with a
+// warning. Returns the solid to use, meshed.
+TopoDS_Shape Reader::closeTessellation(const TopoDS_Shape& solid, double diagonal, double deflection) const {
+  std::size_t open = openEdges(solid, diagonal);
+  if (open == 0) return solid;
+  TopoDS_Shape best = solid;
+  for (const auto& [snap, fine] : {std::pair{true, 1.0}, std::pair{false, 0.1}, std::pair{true, 0.1}}) {
+    const TopoDS_Shape again = snap ? withSnappedParameterLines(solid) : BRepBuilderAPI_Copy(solid, Standard_True, Standard_False).Shape();
+    tessellate(again, fine * deflection, angularDeflection_);
+    const std::size_t o = openEdges(again, diagonal);
+    if (o < open) {
+      open = o;
+      best = again;
+    }
+    if (open == 0) break;
+  }
+  return best;
+}
 
 void Reader::skip(Product& p, const std::string& why) { warnings_.push_back("\"" + p.name + "\": skipped, " + why); }
 
@@ -119,19 +237,14 @@ void Reader::measure(Product& p) {
     if (!std::isfinite(v) || std::abs(v) > 1e12) return skip(p, "its bounding box is not finite");
   const double diagonal = gp_Pnt(x0, y0, z0).Distance(gp_Pnt(x1, y1, z1));
   const double deflection = std::max(relativeDeflection_ * diagonal, 1e-7);
-  // Delabella's Delaunay triangulation, not BRepMesh's default: a planar face with hundreds of holes (a
-  // large base plate) took the default seconds, all of it in its circumcircle search.
-  IMeshTools_Parameters parameters;
-  parameters.Deflection = deflection;
-  parameters.Angle = angularDeflection_;
-  // The faces of a solid meshed on every core (each face alone, so the result does not depend on it).
-  parameters.InParallel = Standard_True;
-  BRepMesh_IncrementalMesh mesher;
-  mesher.SetShape(kept);
-  mesher.ChangeParameters() = parameters;
-  Handle(IMeshTools_Context) context = new BRepMesh_Context();
-  context->SetFaceDiscret(new BRepMesh_FaceDiscret(new BRepMesh_DelabellaMeshAlgoFactory()));
-  mesher.Perform(context);
+  tessellate(kept, deflection, angularDeflection_);
+  const TopoDS_Compound asRead = kept;  // the file's own shapes, which its colours name
+  {
+    TopoDS_Compound closed;
+    builder.MakeCompound(closed);
+    for (TopoDS_Iterator it(kept); it.More(); it.Next()) builder.Add(closed, closeTessellation(it.Value(), diagonal, deflection));
+    kept = closed;
+  }
 
   std::vector<double> vertices;
   std::vector<std::int32_t> triangles;
@@ -199,9 +312,17 @@ void Reader::measure(Product& p) {
              {"vertices", blob(vertices)},
              {"triangles", blob(triangles)},
              {"faces", std::move(faces)}};
-  if (const auto c = colorOf(p.label)) {
+  // A product of several representations (step_reader.cpp) may carry its colour on the one that is a solid.
+  std::optional<Quantity_Color> own = colorOf(p.label);
+  TDF_LabelSequence representations;
+  XCAFDoc_ShapeTool::GetComponents(p.label, representations, false);
+  for (Standard_Integer i = 1; i <= representations.Length() && !own; ++i) {
+    TDF_Label ref;
+    if (XCAFDoc_ShapeTool::GetReferredShape(representations.Value(i), ref)) own = colorOf(ref);
+  }
+  if (const auto c = own) {
     p.solid["color"] = colorJson(*c);
-  } else if (const auto s = shapeColor(kept)) {
+  } else if (const auto s = shapeColor(asRead)) {
     p.solid["color"] = colorJson(*s);
   }
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "vaw/mass_properties.hpp"
 #include "vaw/mesh.hpp"
 #include "vaw/primitives.hpp"
 
@@ -84,10 +85,67 @@ TEST(Degenerate, RemovedAndCounted) {
   m.vertices.emplace_back(1.5, 1.5, 1.5);
   const int a = static_cast<int>(m.vertices.size()) - 2;
   m.vertices.emplace_back(2.5, 2.5, 2.5);
-  m.triangles.emplace_back(a, a + 1, a + 2);  // collinear
+  m.triangles.emplace_back(a, a + 1, a + 2);  // collinear, with no neighbour to mend it into
   EXPECT_EQ(checkMesh(m).degenerateTriangles, 2u);
-  EXPECT_EQ(removeDegenerateTriangles(m, 0.0), 2u);
+  const MeshRepair r = repairMesh(m, 0.0, 0.0);
+  EXPECT_EQ(r.removed, 2u);
+  EXPECT_EQ(r.mended, 0u);
   EXPECT_EQ(m.triangles.size(), 12u);
+}
+
+// A mesher that puts a node in the middle of an edge on one face's side only closes the gap with a
+// zero-area triangle along that edge. Deleting it by area opens three edges; mending keeps the box closed.
+TEST(Degenerate, SliverOnAnEdgeIsMendedAndTheMeshStaysClosed) {
+  TriMesh m = primitives::box({1, 1, 1});
+  // An edge (a, b) and the triangle t1 = (a, b, x) on one side of it.
+  std::size_t t1 = 0;
+  int a = m.triangles[0][0], b = m.triangles[0][1], x = m.triangles[0][2];
+  ASSERT_TRUE(checkMesh(m).valid());
+  const int mid = static_cast<int>(m.vertices.size());
+  m.vertices.push_back(0.5 * (m.vertices[static_cast<std::size_t>(a)] + m.vertices[static_cast<std::size_t>(b)]));
+  m.triangles[t1] = Eigen::Vector3i(a, mid, x);
+  m.triangles.emplace_back(mid, b, x);
+  m.triangles.emplace_back(a, b, mid);  // the sliver
+  const double volume = integrateVolume(m).volume;
+  ASSERT_TRUE(checkMesh(m).closed());
+  ASSERT_EQ(checkMesh(m).degenerateTriangles, 1u);
+
+  TriMesh byArea = m;
+  std::erase_if(byArea.triangles, [&](const Eigen::Vector3i& t) { return t == Eigen::Vector3i(a, b, mid); });
+  EXPECT_EQ(checkMesh(byArea).boundaryEdges, 3u) << "what deleting the sliver by its area did";
+
+  const MeshRepair r = repairMesh(m, 1e-12, 1e-14);
+  EXPECT_EQ(r.mended, 1u);
+  EXPECT_EQ(r.removed, 0u);
+  EXPECT_TRUE(r.check.valid()) << r.check.summary();
+  EXPECT_EQ(r.check.degenerateTriangles, 0u);
+  EXPECT_NEAR(integrateVolume(m).volume, volume, 1e-15);
+  EXPECT_NEAR(volume, 1.0, 1e-15);
+}
+
+// A fan of slivers along one edge (three nodes on one side, none on the other) is mended pass by pass.
+TEST(Degenerate, FanOfSliversIsMended) {
+  TriMesh m = primitives::box({1, 1, 1});
+  const int a = m.triangles[0][0], b = m.triangles[0][1], x = m.triangles[0][2];
+  const Eigen::Vector3d pa = m.vertices[static_cast<std::size_t>(a)], pb = m.vertices[static_cast<std::size_t>(b)];
+  std::vector<int> nodes{a};
+  for (const double t : {0.25, 0.5, 0.75}) {
+    nodes.push_back(static_cast<int>(m.vertices.size()));
+    m.vertices.push_back(pa + t * (pb - pa));
+  }
+  nodes.push_back(b);
+  m.triangles[0] = Eigen::Vector3i(nodes[0], nodes[1], x);
+  for (std::size_t k = 1; k + 1 < nodes.size(); ++k) m.triangles.emplace_back(nodes[k], nodes[k + 1], x);
+  // Closed by slivers (a, b, n1), (n1, b, n2), (n2, b, n3): each edge a->n1, n1->n2, ... met once each way.
+  m.triangles.emplace_back(a, b, nodes[1]);
+  m.triangles.emplace_back(nodes[1], b, nodes[2]);
+  m.triangles.emplace_back(nodes[2], b, nodes[3]);
+  ASSERT_TRUE(checkMesh(m).closed()) << checkMesh(m).summary();
+  const MeshRepair r = repairMesh(m, 1e-12, 1e-14);
+  EXPECT_EQ(r.mended, 3u);
+  EXPECT_TRUE(r.check.valid()) << r.check.summary();
+  EXPECT_EQ(r.check.degenerateTriangles, 0u);
+  EXPECT_NEAR(integrateVolume(m).volume, 1.0, 1e-15);
 }
 
 TEST(TriMesh, AppendAndBounds) {

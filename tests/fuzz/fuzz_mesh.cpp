@@ -23,9 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   // The header's first byte picks the weld tolerance's scale, to reach the grid's far cells too.
   const double tolerance = std::ldexp(1.0, static_cast<int>(data[0]) - 160);
-  (void)vaw::weldVertices(mesh, tolerance);
-  (void)vaw::removeDegenerateTriangles(mesh, tolerance * tolerance);
-  const vaw::MeshCheck check = vaw::checkMesh(mesh);
+  const vaw::MeshCheck check = vaw::repairMesh(mesh, tolerance, tolerance * tolerance).check;
   (void)check.summary();
   const vaw::MassProperties mp = vaw::massPropertiesFromMesh(mesh, 7850.0);
   (void)vaw::inertiaProblem(mp.inertiaCm, 1e-6);

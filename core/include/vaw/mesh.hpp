@@ -41,8 +41,20 @@ struct MeshCheck {
 // Merges vertices closer than `tolerance` (metres) so that meshes written as triangle soup (STL)
 // have shared edges. Returns the number of vertices removed.
 std::size_t weldVertices(TriMesh& mesh, double tolerance);
-// Removes zero-area triangles. Returns how many were removed.
-std::size_t removeDegenerateTriangles(TriMesh& mesh, double areaTolerance);
+
+// What repairMesh changed, and the mesh's check after it.
+struct MeshRepair {
+  std::size_t welded = 0;   // vertices merged into another within the tolerance
+  std::size_t mended = 0;   // slivers removed by splitting their neighbour (the mesh stays closed)
+  std::size_t removed = 0;  // triangles whose corners welded together, and slivers with no neighbour to split
+  MeshCheck check;
+};
+// Makes a tessellation as closed as its source: welds vertices within `weldTolerance`, removes triangles
+// whose corners weld together, and takes out every zero-area triangle with three distinct corners (a
+// sliver: one corner lies on the opposite edge, as meshers leave along an edge from a cone's apex) by
+// splitting the neighbour across its long edge at that corner. Deleting a sliver by its area would open
+// the mesh along all three of its edges.
+MeshRepair repairMesh(TriMesh& mesh, double weldTolerance, double areaTolerance);
 
 MeshCheck checkMesh(const TriMesh& mesh, double areaTolerance = 0.0);
 
