@@ -169,10 +169,12 @@ bool kernelName(const std::string& name) {
   return s.find_first_not_of("0123456789:") == std::string::npos && s.find(':') != std::string::npos;
 }
 
-// What CAD systems and Open CASCADE write where a shape has no name of its own: the kind of shape ("SOLID",
-// "Body1", "Solid.2"). A part named so says nothing; its product's or its instance's name is used instead.
+// What CAD systems and Open CASCADE write where a shape or an instance has no name of its own: the kind of
+// shape ("SOLID", "Body1", "Solid.2"), SolidWorks' usage ids ("NAUO12", its instances' names being blank),
+// blanks. A part named so says nothing; its product's or its instance's name is used instead.
 bool genericName(const std::string& name) {
-  static const std::regex generic(R"((solid|shell|compound|compsolid|face|body|brep|mesh)[ ._#-]*[0-9]*)", std::regex::icase);
+  static const std::regex generic(R"(\s*((solid|shell|compound|compsolid|face|body|brep|mesh|nauo)[ ._#-]*[0-9]*)?\s*)",
+                                  std::regex::icase);
   return kernelName(name) || std::regex_match(name, generic);
 }
 
