@@ -23,6 +23,7 @@
 #include "work_precision_command.hpp"
 #include "vaw/cad_assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
+#include "vaw/collision/interference.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
@@ -44,6 +45,39 @@ const char* massSource(vaw::MassSource s) {
 std::string partnerName(const vaw::Assembly& a, const vaw::Constraint& c) {
   const auto partner = c.partner ? c.partner : a.base;
   return partner ? a.parts[*partner].name : std::string("(none)");
+}
+
+nlohmann::json interferenceJson(const vaw::Assembly& a, const std::vector<vaw::collision::Interference>& found) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& i : found) {
+    nlohmann::json j{{"kind", std::string(vaw::collision::name(i.kind))},
+                     {"parts", {a.parts[i.a].name, a.parts[i.b].name}},
+                     {"volume_m3", i.volume},
+                     {"depth_m", i.depth}};
+    if (i.kind != vaw::collision::Interference::Kind::Contact) {
+      j["where_m"] = vec(i.where);
+      j["direction"] = vec(i.direction);
+    }
+    if (!i.thread.empty()) j["thread"] = i.thread;
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+// "13 threaded, 1 clash, 96 contacts", then a line per designed fit and clash.
+void printInterferences(const vaw::Assembly& a, const std::vector<vaw::collision::Interference>& found) {
+  using Kind = vaw::collision::Interference::Kind;
+  std::size_t count[4] = {0, 0, 0, 0};
+  for (const auto& i : found) ++count[static_cast<int>(i.kind)];
+  std::printf("interferences at rest: %zu clash%s, %zu threaded, %zu press, %zu touching\n", count[static_cast<int>(Kind::Clash)],
+              count[static_cast<int>(Kind::Clash)] == 1 ? "" : "es", count[static_cast<int>(Kind::Threaded)], count[static_cast<int>(Kind::Press)],
+              count[static_cast<int>(Kind::Contact)]);
+  for (const auto& i : found) {
+    if (i.kind == Kind::Contact) continue;
+    const std::string what = i.kind == Kind::Threaded ? "threaded " + i.thread : std::string(vaw::collision::name(i.kind));
+    std::printf("interference %s: %s and %s, %.3f mm^3, %.3f mm deep, at (%.2f, %.2f, %.2f) mm\n", what.c_str(), a.parts[i.a].name.c_str(),
+                a.parts[i.b].name.c_str(), 1e9 * i.volume, 1e3 * i.depth, 1e3 * i.where.x(), 1e3 * i.where.y(), 1e3 * i.where.z());
+  }
 }
 
 nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::ConstraintFit>& fits) {
@@ -198,8 +232,17 @@ int inspect(const InspectArgs& args) {
     // How each constraint meets the base (the fit's clearance, or why it does not fit): surface patches
     // of the constrained parts only.
     const auto fits = vaw::collision::constraintFits(a);
-    if (args.json) std::cout << toJson(a, fits).dump(2) << '\n';
-    else printTable(a, fits);
+    // What overlaps at rest, for assemblies whose parts come with their assembled poses (CAD files).
+    std::vector<vaw::collision::Interference> overlaps;
+    if (!a.cadFile.empty()) overlaps = vaw::collision::interferences(a, vaw::collision::assembledPoses(a));
+    if (args.json) {
+      nlohmann::json j = toJson(a, fits);
+      if (!a.cadFile.empty()) j["interferences"] = interferenceJson(a, overlaps);
+      std::cout << j.dump(2) << '\n';
+    } else {
+      printTable(a, fits);
+      if (!a.cadFile.empty()) printInterferences(a, overlaps);
+    }
     return 0;
   } catch (const vaw::InputError& e) {
     if (tty) std::fprintf(stderr, "\n");

@@ -13,6 +13,15 @@ std::string_view name(Constraint::Type t) {
   return "?";
 }
 
+std::string_view name(Constraint::Found::Fit f) {
+  switch (f) {
+    case Constraint::Found::Fit::Clearance: return "clearance";
+    case Constraint::Found::Fit::Threaded: return "threaded";
+    case Constraint::Found::Fit::Press: return "press";
+  }
+  return "?";
+}
+
 std::optional<PartId> Assembly::findPart(std::string_view partName) const {
   for (const auto& p : parts)
     if (p.name == partName) return p.id;

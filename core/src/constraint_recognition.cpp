@@ -12,6 +12,7 @@
 #include <tuple>
 
 #include "collision/geometry2d.hpp"
+#include "vaw/fits.hpp"
 
 namespace vaw {
 
@@ -148,8 +149,12 @@ Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTole
   const double offAxis = (rel - u * u.dot(rel)).norm();
   if (offAxis > tol.distance) return {Refusal::AxesApart, offAxis, tol.distance};
   const double clearance = bore.face->radius - shaft.face->radius;
-  // A press fit with interference is not read as an insert.
-  if (clearance < -tol.distance) return {Refusal::Interference, -clearance, tol.distance};
+  // Interference is an insert where a designer models it so (a thread at its tap drill, a press fit).
+  std::optional<DesignedInterference> designed;
+  if (clearance < -tol.distance) {
+    designed = designedInterference(shaft.face->radius, bore.face->radius);
+    if (!designed) return {Refusal::Interference, -clearance, tol.distance};
+  }
   const double loosest = std::min(tol.maxClearance, tol.maxClearanceRel * bore.face->radius);
   if (clearance > loosest) return {Refusal::TooLoose, clearance, loosest};
   // Both faces' extents along the bore's axis, from the bore's axis point.
@@ -170,6 +175,11 @@ Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTole
   f.found.clearance = std::max(0.0, clearance);
   f.found.overlap = overlap;
   f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
+  if (designed) {
+    f.found.fit = designed->fit;
+    f.found.thread = designed->thread;
+    f.found.interference = -clearance;
+  }
   return {};
 }
 
@@ -220,7 +230,8 @@ std::string describe(const Verdict& v) {
     case Refusal::BothShafts: return "both are shafts";
     case Refusal::AxesAngle: return "the axes are " + degrees(v.value) + " apart";
     case Refusal::AxesApart: return "the axes are " + mm(v.value) + " apart";
-    case Refusal::Interference: return "the shaft is " + mm(v.value) + " larger in radius than the bore";
+    case Refusal::Interference:
+      return "the shaft is " + mm(v.value) + " larger in radius than the bore: neither a thread modelled at its tap drill nor a press fit";
     case Refusal::TooLoose:
       return "the bore is " + mm(v.value) + " larger in radius than the shaft: more play than " + mm(v.limit);
     case Refusal::NoAxialOverlap:
@@ -303,7 +314,11 @@ std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, c
       continue;
     }
     const double overlap = same->found.overlap + f.found.overlap;
-    if (f.type == Constraint::Type::Insert && f.found.clearance < same->found.clearance) {
+    // The fit that holds: a designed interference (a counterbored head's play above a thread does not), else
+    // the tightest.
+    const auto interference = [](const FoundConstraint& x) { return x.found.fit != Constraint::Found::Fit::Clearance; };
+    const bool holds = interference(f) != interference(*same) ? interference(f) : f.found.clearance < same->found.clearance;
+    if (f.type == Constraint::Type::Insert && holds) {
       const Eigen::Vector3d point = same->point, direction = same->direction;
       *same = f;
       same->point = point;

@@ -478,7 +478,7 @@ class SceneReader {
   // What recognition measured, kept with a saved CAD scene (lengths in the scene's unit, areas in its square).
   Constraint::Found readFound(const Node& n, Constraint::Type type) {
     n.requireObject();
-    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline"});
+    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline", "fit", "interference", "thread"});
     Constraint::Found f;
     const double L = units_.L;
     if (auto x = n.opt("part_radius")) f.partRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
@@ -490,6 +490,14 @@ class SceneReader {
       if (!x->json().is_boolean()) x->fail("true or false");
       f.fromSpline = x->json().get<bool>();
     }
+    if (auto x = n.opt("fit")) {
+      const std::string fit = x->string();
+      if (fit == "threaded") f.fit = Constraint::Found::Fit::Threaded;
+      else if (fit == "press") f.fit = Constraint::Found::Fit::Press;
+      else if (fit != "clearance") x->fail("\"clearance\", \"threaded\" or \"press\"");
+    }
+    if (auto x = n.opt("interference")) f.interference = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
+    if (auto x = n.opt("thread")) f.thread = x->string();
     return f;
   }
 

@@ -83,10 +83,16 @@ struct Constraint {
   double offset = 0.0;             // m, signed distance between the planes (Mate/Align)
   // What recognition measured, for constraints found in the geometry (docs/step.md).
   struct Found {
+    // How an insert's shaft sits in its bore: with play (or none), or larger by design: a thread modelled
+    // at its tap drill, a press fit (vaw/fits.hpp). A designed interference is a fit, not a collision.
+    enum class Fit { Clearance, Threaded, Press };
     double partRadius = 0.0, partnerRadius = 0.0;  // m, Insert
     double clearance = 0.0;                        // m, radial, Insert
     double overlap = 0.0;  // m^2 of face overlap (Mate), m of axial overlap (Insert)
     bool fromSpline = false;  // one of the faces was a B-spline recognised as a plane or cylinder
+    Fit fit = Fit::Clearance;
+    double interference = 0.0;  // m, radial: the shaft's radius less the bore's (Threaded, Press)
+    std::string thread;         // Threaded: "M6", "1/4-20 UNC"
   };
   std::optional<Found> found;
   // The direction the part comes home from, in the partner's frame: it travels along -homeDirection
@@ -95,6 +101,7 @@ struct Constraint {
   bool accepted = false;  // the user confirmed it (Constraints panel); saved with the scene
 };
 std::string_view name(Constraint::Type t);
+std::string_view name(Constraint::Found::Fit f);
 
 // A tool that lifts parts too heavy for the hands (docs/scene-format.md, "Tools"): a hook on a vertical
 // line at a fixed (x, y) that rises, lowers and turns about the vertical, and takes a tool-lifted part

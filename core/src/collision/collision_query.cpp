@@ -33,6 +33,54 @@ struct PairContext {
   // with their axes up to `fitClearance` apart (the part rests in its play) and radii that differ.
   const std::vector<std::pair<int, int>>* fit = nullptr;
   double fitClearance = 0.0;
+  // The designed interferences between A and B (DesignedFit), in A's frame once the poses are set: a
+  // triangle pair with the shaft's triangle inside the shaft's radius and the bore's outside the bore's,
+  // within the bore's span, lies in the band the shaft fills by design and is no contact.
+  struct Band {
+    Eigen::Vector3d point, direction;
+    double axialMin, axialMax, boreRadius, shaftRadius;
+    bool boreIsA;
+  };
+  std::vector<Band> bands;
+
+  // For the current B -> A transform (R, T).
+  void findBands() {
+    bands.clear();
+    if (A->id.kind != ObjectId::Kind::Part || B->id.kind != ObjectId::Kind::Part) return;
+    for (const DesignedFit& f : A->designed) {
+      if (f.other != B->id.index) continue;
+      // The axis is in the bore's part frame; triangles are in each mesh's model frame.
+      const WorldObject& bore = f.bore ? *A : *B;
+      Eigen::Vector3d point = bore.geometryOffset.inverse() * f.axis.point;
+      Eigen::Vector3d direction = bore.geometryOffset.linear().transpose() * f.axis.direction;
+      if (!f.bore) {
+        point = R * point + T;
+        direction = R * direction;
+      }
+      bands.push_back({point, direction.normalized(), f.axialMin, f.axialMax, f.boreRadius, f.shaftRadius, f.bore});
+    }
+  }
+
+  bool inDesignedBand(const Tri& p, const Tri& q) const {
+    const double slack = tol.distance + tol.radius;
+    for (const Band& b : bands) {
+      const Tri& shaft = b.boreIsA ? q : p;
+      const Tri& bore = b.boreIsA ? p : q;
+      bool inside = true;
+      for (const Eigen::Vector3d& v : shaft) {
+        const Eigen::Vector3d rel = v - b.point;
+        inside = inside && (rel - b.direction * b.direction.dot(rel)).norm() <= b.shaftRadius + slack;
+      }
+      for (const Eigen::Vector3d& v : bore) {
+        const Eigen::Vector3d rel = v - b.point;
+        const double along = b.direction.dot(rel);
+        inside = inside && (rel - b.direction * along).norm() >= b.boreRadius - slack && along >= b.axialMin - b.shaftRadius - slack &&
+                 along <= b.axialMax + b.shaftRadius + slack;
+      }
+      if (inside) return true;
+    }
+    return false;
+  }
 
   // Every triangle pair of node b1 (of A) and node b2 (of B) would be dropped by the mode.
   bool skipsWhole(int b1, int b2) {
@@ -142,7 +190,8 @@ struct PairContext {
       if (!fcl::detail::Intersect<double>::intersect_Triangle(p[0], p[1], p[2], q[0], q[1], q[2])) return;
       ++out->intersecting;
       c.coaxial = coaxial(ta, tb);
-      const bool skip = (mode == FilterMode::SkipCoplanar && c.coplanar) || (mode == FilterMode::SkipCoaxial && c.coaxial);
+      const bool designed = !bands.empty() && (mode == FilterMode::SkipCoaxial || opt.skipDesigned) && inDesignedBand(p, q);
+      const bool skip = (mode == FilterMode::SkipCoplanar && c.coplanar) || (mode == FilterMode::SkipCoaxial && c.coaxial) || designed;
       pairgeom::Crossing x;
       if (!c.coplanar)
         x = pairgeom::crossing(p, na, A->patches->outlineEdges[static_cast<std::size_t>(ta)], q, nb,
@@ -208,6 +257,7 @@ void meshMeshQuery(PairContext& ctx, const Eigen::Isometry3d& poseA, const Eigen
   ctx.T = node.T;
   ctx.cosAngle = std::cos(ctx.tol.angle);
   ctx.forget();
+  ctx.findBands();
   node.ctx = &ctx;
   node.keepCoplanar = ctx.mode == FilterMode::KeepCoplanar;
   fcl::detail::collide(&node, nullptr);
@@ -266,7 +316,7 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     const Tri p{this->vertices1[t1[0]], this->vertices1[t1[1]], this->vertices1[t1[2]]};
     const Tri q{this->tf * this->vertices2[t2[0]], this->tf * this->vertices2[t2[1]], this->tf * this->vertices2[t2[2]]};
     const int ta = A().bvhToMesh[static_cast<std::size_t>(i1)], tb = B().bvhToMesh[static_cast<std::size_t>(i2)];
-    if (behind(p, q) || neverMeet(p, q) ||
+    if (behind(p, q) || neverMeet(p, q) || (ctx->mode == FilterMode::SkipCoaxial && ctx->inDesignedBand(p, q)) ||
         filtered(A().patches->planeOf[static_cast<std::size_t>(ta)], B().patches->planeOf[static_cast<std::size_t>(tb)],
                  A().patches->cylinderOf[static_cast<std::size_t>(ta)], B().patches->cylinderOf[static_cast<std::size_t>(tb)]))
       return;
@@ -553,6 +603,7 @@ double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA,
   ctx.T = node.tf.translation();
   ctx.cosAngle = std::cos(ctx.tol.angle);
   ctx.forget();
+  ctx.findBands();
   node.ctx = &ctx;
   node.dir = (tf1.linear().transpose() * direction).normalized();
   node.e1 = node.dir.unitOrthogonal();

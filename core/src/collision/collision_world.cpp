@@ -436,6 +436,39 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     setupMesh(o, e.mesh, nullptr);
   }
   w.makeBroadPhase();
+  // Designed interferences, matched to the bore's cylinders once: the bore's span along the axis.
+  for (const Constraint& c : assembly.constraints) {
+    if (c.type != Constraint::Type::Insert || !c.found || c.found->fit == Constraint::Found::Fit::Clearance || !w.base) continue;
+    const PartId partner = c.partner.value_or(*w.base);
+    if (c.part >= w.parts.size() || partner >= w.parts.size()) continue;
+    const bool partIsShaft = c.found->partRadius > c.found->partnerRadius;
+    const PartId borePart = partIsShaft ? partner : c.part;
+    const SurfacePatches* bp = patches(ObjectId::part(borePart));
+    if (!bp) continue;
+    DesignedFit f;
+    f.axis = partIsShaft ? c.baseAxis : c.partAxis;
+    f.axis.direction.normalize();
+    f.boreRadius = std::min(c.found->partRadius, c.found->partnerRadius);
+    f.shaftRadius = std::max(c.found->partRadius, c.found->partnerRadius);
+    f.axialMin = std::numeric_limits<double>::infinity();
+    f.axialMax = -f.axialMin;
+    for (const int i : detail::cylindersOnAxis(*bp, f.axis, w.tol)) {
+      const CylindricalPatch& cyl = bp->cylinders[static_cast<std::size_t>(i)];
+      if (cyl.convex || std::abs(cyl.radius - f.boreRadius) > w.tol.radius) continue;
+      for (const double t : {0.0, cyl.length}) {
+        const double along = f.axis.direction.dot(cyl.point + t * cyl.direction - f.axis.point);
+        f.axialMin = std::min(f.axialMin, along);
+        f.axialMax = std::max(f.axialMax, along);
+      }
+    }
+    if (!(f.axialMin <= f.axialMax)) continue;
+    f.other = partIsShaft ? c.part : partner;
+    f.bore = true;
+    w.parts[borePart].designed.push_back(f);
+    f.other = borePart;
+    f.bore = false;
+    w.parts[partIsShaft ? c.part : partner].designed.push_back(f);
+  }
   // What the part inspector shows of a constrained part: how each of its constraints meets the base.
   if (w.base)
     for (const Constraint& c : assembly.constraints) {
@@ -484,6 +517,7 @@ CollisionWorld CollisionWorld::instance() const {
     o.localBounds = from.localBounds;
     o.boxHalf = from.boxHalf;
     o.com = from.com;
+    o.designed = from.designed;
     return o;
   };
   w.parts.reserve(impl_->parts.size());

@@ -29,6 +29,18 @@ using Model = fcl::BVHModel<BV>;
 using BaseNode = fcl::detail::MeshCollisionTraversalNodeOBBRSS<double>;
 using pairgeom::Tri;
 
+// A designed interference this part is in (a thread modelled at its tap drill, a press fit: the insert's
+// Found::fit): the shaft's solid fills the band between the bore's radius and its own by design, and no
+// triangle pair inside that band is a contact (docs/collision.md, "Designed interference").
+struct DesignedFit {
+  PartId other = 0;   // the part on the other side of the fit
+  bool bore = false;  // this part holds the bore
+  // In the bore part's frame: the axis, and the span along it (from axis.point) of the bore's faces on it.
+  Axis axis;
+  double axialMin = 0.0, axialMax = 0.0;
+  double boreRadius = 0.0, shaftRadius = 0.0;  // m
+};
+
 struct WorldObject {
   ObjectId id;
   ObjectInfo info;
@@ -50,6 +62,7 @@ struct WorldObject {
   Eigen::AlignedBox3d localBounds;
   Eigen::Vector3d boxHalf = Eigen::Vector3d::Zero();  // Box proxies
   Eigen::Vector3d com = Eigen::Vector3d::Zero();
+  std::vector<DesignedFit> designed;  // parts only
 
   [[nodiscard]] Eigen::Isometry3d fclPose(const Eigen::Isometry3d& p) const { return p * geometryOffset; }
   [[nodiscard]] double sagitta(int tri) const {
@@ -118,6 +131,9 @@ struct CollisionWorld::Impl {
 namespace detail {
 // A number with four significant digits, for messages.
 std::string fmt(double v);
+
+// The cylindrical patches whose axes lie on `axis` (unit direction) within the tolerances.
+std::vector<int> cylindersOnAxis(const SurfacePatches& sp, const Axis& axis, const Tolerances& tol);
 
 // What a pair query may skip: base BVH nodes below the support plane, and the support's fit pairs.
 struct Cull {

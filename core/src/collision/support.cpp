@@ -8,10 +8,23 @@
 #include <optional>
 #include <string>
 
+#include "collision_world_impl.hpp"
 #include "geometry2d.hpp"
 #include "vaw/collision/collision_world.hpp"
 
 namespace vaw::collision {
+
+std::vector<int> detail::cylindersOnAxis(const SurfacePatches& sp, const Axis& axis, const Tolerances& tol) {
+  const double cosA = std::cos(tol.angle);
+  std::vector<int> found;
+  for (std::size_t i = 0; i < sp.cylinders.size(); ++i) {
+    const CylindricalPatch& c = sp.cylinders[i];
+    Eigen::Vector3d d = c.point - axis.point;
+    d -= axis.direction * axis.direction.dot(d);
+    if (std::abs(c.direction.dot(axis.direction)) >= cosA && d.norm() <= tol.distance + tol.radius) found.push_back(static_cast<int>(i));
+  }
+  return found;
+}
 
 namespace {
 
@@ -45,18 +58,6 @@ std::vector<int> patchesInPlane(const SurfacePatches& sp, Plane& plane, const To
   return {};
 }
 
-std::vector<int> cylindersOnAxis(const SurfacePatches& sp, const Axis& axis, const Tolerances& tol) {
-  const double cosA = std::cos(tol.angle);
-  std::vector<int> found;
-  for (std::size_t i = 0; i < sp.cylinders.size(); ++i) {
-    const CylindricalPatch& c = sp.cylinders[i];
-    if (std::abs(c.direction.dot(axis.direction)) >= cosA &&
-        lineDistance(c.point, axis.point, axis.direction) <= tol.distance + tol.radius)
-      found.push_back(static_cast<int>(i));
-  }
-  return found;
-}
-
 // Radial clearance of a bore on a shaft (opposite kinds): the bore's radius minus the shaft's; negative
 // for interference.
 double clearanceOf(const CylindricalPatch& a, const CylindricalPatch& b) {
@@ -75,9 +76,11 @@ std::string mm(double metres) {
   return out + " mm";
 }
 
-void matchAxis(Support& s, const SurfacePatches& pp, const SurfacePatches& bp, const Tolerances& tol) {
-  const std::vector<int> pc = cylindersOnAxis(pp, s.partAxis, tol);
-  const std::vector<int> bc = cylindersOnAxis(bp, s.baseAxis, tol);
+// `designed`: the radial interference the constraint was found with by design (a thread at its tap
+// drill, a press fit), which fits like a clearance of 0.
+void matchAxis(Support& s, const SurfacePatches& pp, const SurfacePatches& bp, const Tolerances& tol, double designed) {
+  const std::vector<int> pc = detail::cylindersOnAxis(pp, s.partAxis, tol);
+  const std::vector<int> bc = detail::cylindersOnAxis(bp, s.baseAxis, tol);
   // Every bore-and-shaft pair on the axis by its clearance. The fit is the tightest pair that is not
   // interference (a sleeve's bore on the shaft, not its outside in some wider bore of the base), with
   // every pair as tight as it within the radius tolerance (a shaft in two bearing seats).
@@ -94,8 +97,9 @@ void matchAxis(Support& s, const SurfacePatches& pp, const SurfacePatches& bp, c
     }
   const Pair* tightest = nullptr;
   const Pair* leastInterference = nullptr;
+  const double least = -tol.radius - designed;
   for (const Pair& p : pairs) {
-    if (p.clearance >= -tol.radius) {
+    if (p.clearance >= least) {
       if (!tightest || p.clearance < tightest->clearance) tightest = &p;
     } else if (!leastInterference || p.clearance > leastInterference->clearance) {
       leastInterference = &p;
@@ -128,7 +132,7 @@ void matchAxis(Support& s, const SurfacePatches& pp, const SurfacePatches& bp, c
   s.partIsBore = !pp.cylinders[static_cast<std::size_t>(tightest->i)].convex;
   s.baseRadius = bp.cylinders[static_cast<std::size_t>(tightest->j)].radius;
   for (const Pair& p : pairs) {
-    if (p.clearance < -tol.radius || p.clearance > tightest->clearance + tol.radius) continue;
+    if (p.clearance < least || p.clearance > std::max(tightest->clearance, 0.0) + tol.radius) continue;
     s.fitPairs.emplace_back(p.i, p.j);
     if (std::find(s.partPatches.begin(), s.partPatches.end(), p.i) == s.partPatches.end()) s.partPatches.push_back(p.i);
     if (std::find(s.basePatches.begin(), s.basePatches.end(), p.j) == s.basePatches.end()) s.basePatches.push_back(p.j);
@@ -167,7 +171,8 @@ Support matchSupport(const Constraint& c, PartId base, const SurfacePatches* pp,
     s.problem = "part or base has no mesh to find the constraint cylinders on";
     return s;
   }
-  matchAxis(s, *pp, *bp, tol);
+  const bool designed = c.found && c.found->fit != Constraint::Found::Fit::Clearance;
+  matchAxis(s, *pp, *bp, tol, designed ? c.found->interference : 0.0);
   return s;
 }
 

@@ -56,6 +56,11 @@ Ordered constraintJson(const Assembly& a, const Constraint& c) {
     if (c.type == Constraint::Type::Insert) {
       f["part_radius"] = c.found->partRadius;
       f["partner_radius"] = c.found->partnerRadius;
+      if (c.found->fit != Constraint::Found::Fit::Clearance) {
+        f["fit"] = std::string(name(c.found->fit));
+        f["interference"] = c.found->interference;
+        if (!c.found->thread.empty()) f["thread"] = c.found->thread;
+      }
     }
     j["found"] = f;
   }

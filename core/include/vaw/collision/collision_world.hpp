@@ -87,6 +87,9 @@ struct QueryOptions {
   std::size_t maxContacts = 4096;
   bool dropTouching = false;  // drop pairs whose penetration is within their allowance (resting faces)
   bool stopAtFirst = false;   // a yes/no answer: stop at the first contact kept
+  // Drop the pairs inside a designed interference (a thread modelled at its tap drill, a press fit: an
+  // insert's Found::fit), as SKIP_COAXIAL always does: what is left of two overlapping parts is a clash.
+  bool skipDesigned = false;
 };
 
 struct QueryResult {
