@@ -134,6 +134,7 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
           {"fits", fitList},
           {"triangles", a.totalTriangles()},
           {"up", {{"choice", a.cadUp}, {"file_axis", {a.cadUpAxis.x(), a.cadUpAxis.y(), a.cadUpAxis.z()}}}},
+          {"base", {{"part", a.base ? a.parts[*a.base].name : std::string()}, {"reason", a.baseReason}}},
           {"warnings", warnings}};
 }
 
@@ -153,7 +154,8 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
               a.totalTriangles(), a.categorySettings.preset.c_str());
   if (!a.cadFile.empty())
     std::printf("stands with the file's %s up (%s)\n", axisText(a.cadUpAxis).c_str(),
-                a.cadUp == "auto" ? "auto: the base on its most stable face" : ("chosen: " + a.cadUp).c_str());
+                a.cadUp == "auto" ? "auto: on the footing of its base" : ("chosen: " + a.cadUp).c_str());
+  if (a.base && !a.baseReason.empty()) std::printf("base: %s, %s\n", a.parts[*a.base].name.c_str(), a.baseReason.c_str());
   std::printf("%-18s %10s %12s %26s %32s %-11s %s\n", "part", "mass kg", "volume cm^3", "centre of mass mm",
               "principal moments kg m^2", "category", "why");
   for (const auto& p : a.parts) {

@@ -207,11 +207,16 @@ std::optional<std::string> upForFaceDown(const Assembly& a, const Eigen::Vector3
 }
 
 Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,
-                           const std::string& up) {
+                           const std::string& up, const std::optional<Eigen::Vector3d>& footing) {
   if (const auto axis = upDirection(up)) return turnOnto(*axis, Eigen::Vector3d::UnitZ());
   const Eigen::Matrix3d L = basePose.linear();
   const TriMesh& mesh = *base.mesh;
   const Eigen::Vector3d& com = base.mass.centerOfMass;
+  // The base was chosen for the footing it stands on: so it stands, where it is stable there.
+  if (footing && footing->norm() > 0.5) {
+    const Eigen::Matrix3d turn = turnOnto(footing->normalized(), -Eigen::Vector3d::UnitZ());
+    if (restOn(mesh, com, turn * L).first) return turn;
+  }
   const double size = std::max(mesh.bounds().diagonal().norm(), 1e-9);
   // Candidate faces down, in the base's own frame: its planar faces (largest first), then its principal axes.
   std::vector<Eigen::Vector3d> downs;
@@ -252,6 +257,101 @@ Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, 
   if (stableAsIs && heightAsIs <= bestHeight + 0.01 * size && fileDown.dot(towardsRest) <= best->dot(towardsRest) + 1e-9)
     return Eigen::Matrix3d::Identity();
   return turnOnto((L * *best).normalized(), -Eigen::Vector3d::UnitZ());
+}
+
+BaseChoice chooseBase(const std::vector<Part>& parts, const std::vector<Eigen::Isometry3d>& poses, const std::vector<FoundConstraint>& found) {
+  BaseChoice best;
+  if (parts.empty()) return best;
+  std::vector<std::size_t> links(parts.size(), 0);
+  for (const FoundConstraint& f : found) {
+    ++links[f.a];
+    ++links[f.b];
+  }
+  const bool anyLinked = std::any_of(links.begin(), links.end(), [](std::size_t n) { return n > 0; });
+  std::vector<Eigen::AlignedBox3d> boxes(parts.size());
+  for (PartId p = 0; p < parts.size(); ++p)
+    if (parts[p].mesh)
+      for (const auto& v : parts[p].mesh->vertices) boxes[p].extend(poses[p] * v);
+  // The footing of `p` facing `down` (a file axis, k and its sign): the area of its planar faces' triangles
+  // facing down whose middles have no other part's box below them.
+  const auto footing = [&](PartId p, int k, double sign) {
+    const Part& part = parts[p];
+    if (!part.cad) return 0.0;
+    const Eigen::Vector3d down = sign * Eigen::Vector3d::Unit(k);
+    const int u = (k + 1) % 3, v = (k + 2) % 3;
+    // The boxes over its shadow that reach lower than its highest point: what could cover a face of it.
+    std::vector<const Eigen::AlignedBox3d*> below;
+    for (PartId q = 0; q < parts.size(); ++q) {
+      if (q == p || boxes[q].isEmpty()) continue;
+      const Eigen::AlignedBox3d& b = boxes[q];
+      if (b.max()[u] < boxes[p].min()[u] || b.min()[u] > boxes[p].max()[u] || b.max()[v] < boxes[p].min()[v] || b.min()[v] > boxes[p].max()[v])
+        continue;
+      if ((sign > 0 ? b.max()[k] : -b.min()[k]) > (sign > 0 ? boxes[p].min()[k] : -boxes[p].max()[k])) below.push_back(&b);
+    }
+    double area = 0.0;
+    const CadSolid& s = *part.cad;
+    for (const CadFace& f : s.faces) {
+      if (f.surface != CadFace::Surface::Plane || (poses[p].linear() * f.direction).dot(down) < 1.0 - 1e-6) continue;
+      for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < s.mesh.triangles.size(); ++t) {
+        const auto& tri = s.mesh.triangles[t];
+        const Eigen::Vector3d a = poses[p] * s.mesh.vertices[static_cast<std::size_t>(tri[0])];
+        const Eigen::Vector3d b = poses[p] * s.mesh.vertices[static_cast<std::size_t>(tri[1])];
+        const Eigen::Vector3d c = poses[p] * s.mesh.vertices[static_cast<std::size_t>(tri[2])];
+        const Eigen::Vector3d mid = (a + b + c) / 3.0;
+        const bool covered = std::any_of(below.begin(), below.end(), [&](const Eigen::AlignedBox3d* box) {
+          return mid[u] > box->min()[u] && mid[u] < box->max()[u] && mid[v] > box->min()[v] && mid[v] < box->max()[v] &&
+                 (sign > 0 ? box->max()[k] > mid[k] + 1e-9 : box->min()[k] < mid[k] - 1e-9);
+        });
+        if (!covered) area += 0.5 * (b - a).cross(c - a).norm();
+      }
+    }
+    return area;
+  };
+  struct Down {
+    int k;
+    double sign;
+    const char* name;
+  };
+  const Down downs[] = {{2, -1.0, "-z"}, {1, -1.0, "-y"}, {2, 1.0, "+z"}, {1, 1.0, "+y"}, {0, -1.0, "-x"}, {0, 1.0, "+x"}};
+  struct Found {
+    PartId part = 0;
+    double area = 0.0;
+  };
+  std::vector<Found> byDown;
+  for (const Down& d : downs) {
+    Found f;
+    for (PartId p = 0; p < parts.size(); ++p) {
+      if (anyLinked && links[p] == 0) continue;
+      const double area = footing(p, d.k, d.sign);
+      const bool larger = area > f.area * 1.05;
+      const bool tie = !larger && area >= f.area * 0.95 && area > 0.0;
+      if (larger || (tie && parts[p].mass.mass > parts[f.part].mass.mass)) f = {p, area};
+    }
+    byDown.push_back(f);
+  }
+  // Z up or Y up, as the file was modelled, where either has a footing worth the name (a quarter of the best
+  // of all six); otherwise the best of all six.
+  double most = 0.0;
+  for (const Found& f : byDown) most = std::max(most, f.area);
+  std::size_t chosen = byDown[0].area >= byDown[1].area ? 0 : 1;
+  if (byDown[chosen].area < 0.25 * most)
+    for (std::size_t i = 0; i < byDown.size(); ++i)
+      if (byDown[i].area > byDown[chosen].area) chosen = i;
+  if (!(byDown[chosen].area > 0.0)) {
+    // No planar footing anywhere (meshes of curved parts): the heaviest, as before.
+    for (PartId p = 1; p < parts.size(); ++p)
+      if (parts[p].mass.mass > parts[best.base].mass.mass) best.base = p;
+    best.reason = "the heaviest part (no part has a flat face the assembly could stand on)";
+    return best;
+  }
+  best.base = byDown[chosen].part;
+  best.footing = byDown[chosen].area;
+  best.down = downs[chosen].sign * Eigen::Vector3d::Unit(downs[chosen].k);
+  char text[160];
+  std::snprintf(text, sizeof text, "the part the assembly stands on: %.0f mm\u00b2 of its faces at the bottom facing the file's %s, in %zu constraint%s",
+                best.footing * 1e6, downs[chosen].name, links[best.base], links[best.base] == 1 ? "" : "s");
+  best.reason = text;
+  return best;
 }
 
 Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& com, const Principal& principal, const CadSolid* solid,
@@ -584,18 +684,6 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     a.parts.push_back(std::move(p));
   }
 
-  // The base: named, else the heaviest.
-  PartId base = 0;
-  if (options.cadBase) {
-    const auto id = a.findPart(*options.cadBase);
-    if (!id) fail(fileStr, "base", "the name of a part in the file", "\"" + *options.cadBase + "\"");
-    base = *id;
-  } else {
-    for (PartId id = 1; id < a.parts.size(); ++id)
-      if (a.parts[id].mass.mass > a.parts[base].mass.mass) base = id;
-  }
-  a.base = base;
-
   checkCancel(progress, 0.65, "recognising constraints");
   std::vector<Eigen::Isometry3d> filePoses;
   std::vector<RecognitionPart> rec;
@@ -611,6 +699,22 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     };
   };
   const std::vector<FoundConstraint> found = recognizeConstraints(rec, {}, pairStage("recognising constraints", 0.65, 0.75));
+
+  // The base: named, else the part the assembly stands on (docs/step.md, "The base").
+  PartId base = 0;
+  std::optional<Eigen::Vector3d> baseFooting;
+  if (options.cadBase) {
+    const auto id = a.findPart(*options.cadBase);
+    if (!id) fail(fileStr, "base", "the name of a part in the file", "\"" + *options.cadBase + "\"");
+    base = *id;
+    a.baseReason = "chosen";
+  } else {
+    const BaseChoice choice = chooseBase(a.parts, filePoses, found);
+    base = choice.base;
+    a.baseReason = choice.reason;
+    if (choice.footing > 0.0) baseFooting = choice.down;
+  }
+  a.base = base;
   a.constraints = constraintsFromFound(found, a.parts, base, filePoses);
   // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
   // the pairs the geometry leaves open.
@@ -637,7 +741,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     total += a.parts[id].mass.mass;
   }
   if (total > 0.0) centre /= total;
-  const Eigen::Matrix3d turn = assemblyUp(a.parts[base], filePoses[base], centre, a.cadUp);
+  const Eigen::Matrix3d turn = assemblyUp(a.parts[base], filePoses[base], centre, a.cadUp, baseFooting);
   a.cadTurn = turn;
   a.cadUpAxis = (turn.transpose() * Eigen::Vector3d::UnitZ()).normalized();
   Eigen::Isometry3d shift = Eigen::Isometry3d::Identity();

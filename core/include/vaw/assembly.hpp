@@ -160,6 +160,7 @@ struct Assembly {
   std::map<std::string, Material> materials;
   std::vector<Part> parts;
   std::optional<PartId> base;
+  std::string baseReason;  // why that part is the base, for people (a CAD assembly's; empty when a file names it)
   std::vector<EnvironmentObject> environment;
   std::vector<Constraint> constraints;
   std::vector<Hoist> hoists;

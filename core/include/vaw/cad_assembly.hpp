@@ -1,7 +1,7 @@
 #pragma once
 // A CAD assembly (a STEP file read by the importer plugin) made ready to assemble (docs/step.md): one
 // part per solid instance with its mass properties from the exact B-rep, the file's assembled pose as
-// every part's final pose, the base (the heaviest part unless named), the constraints found in the
+// every part's final pose, the base (the part it stands on unless named), the constraints found in the
 // geometry, and the other parts laid out on the table beside the base, each resting on a stable face.
 #include <filesystem>
 #include <memory>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "vaw/assembly.hpp"
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/importer.hpp"
 
 namespace vaw {
@@ -34,6 +35,20 @@ std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std:
 // "fnv1a64:" and the 16 hex digits of the FNV-1a hash of the file's bytes; throws InputError naming it.
 std::string fileContentHash(const std::filesystem::path& file);
 
+// The part a fitter builds the assembly on (docs/step.md, "The base"): the part the assembly stands on.
+// For each way down (the file's -z and -y first, as CAD systems model Z or Y up; the other four where
+// neither has a footing), every part's planar faces facing that way with nothing of another part below
+// them (their exposed footing) are measured; the part with the largest footing is the base, among parts
+// in a constraint when there are any, the heavier of two within 5 %. `poses` are the file's.
+struct BaseChoice {
+  PartId base = 0;
+  Eigen::Vector3d down = -Eigen::Vector3d::UnitZ();  // the file's direction the footing faces
+  double footing = 0.0;                               // m^2
+  std::string reason;                                  // for people
+};
+BaseChoice chooseBase(const std::vector<Part>& parts, const std::vector<Eigen::Isometry3d>& poses,
+                      const std::vector<FoundConstraint>& found);
+
 // The orientation in which a part rests on a horizontal table: `preferred` (its assembled orientation, so
 // that it is picked up as it goes in) when its centre of mass lies over its support there; otherwise the
 // stable one with the lowest centre of mass among the candidate faces (its planar faces' normals and its
@@ -48,8 +63,10 @@ Eigen::Matrix3d restingOrientation(const TriMesh& mesh, const Eigen::Vector3d& c
 // file's own orientation is as good; a file axis ("+x", "-x", "+y", "-y", "+z", "-z"): that axis of the
 // file points up; three numbers ("0 0.6 0.8"): that direction of the file points up (a face put down
 // in the viewport, upForFaceDown). `basePose` is the base's pose in the file.
+// `footing`: the file's direction the base's footing faces (BaseChoice::down); "auto" stands the base on it
+// where the base is stable so.
 Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,
-                           const std::string& up);
+                           const std::string& up, const std::optional<Eigen::Vector3d>& footing = std::nullopt);
 // True for "auto", the six file axes and a direction of three finite numbers, not all zero.
 bool validUpChoice(const std::string& up);
 // The file direction an up choice names (unit); none for "auto" and anything invalid.
