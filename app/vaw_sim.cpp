@@ -96,6 +96,7 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
                      {"product", p.product},
                      {"material", p.material},
                      {"is_base", a.base && *a.base == p.id}};
+    if (!p.unitMembers.empty()) j["unit"] = {{"members", p.unitMembers}, {"reason", p.unitReason}};
     if (p.disagreement)
       j["disagreement"] = {{"mass_rel", p.disagreement->massRel},
                            {"com_m", p.disagreement->comDistance},
@@ -167,6 +168,9 @@ void printTable(const vaw::Assembly& a, const std::vector<vaw::collision::Constr
     std::string name = p.name + (a.base && *a.base == p.id ? " [base]" : "");
     std::printf("%-18s %10.4f %12.3f %26s %32s %-11s %s\n", name.c_str(), p.mass.mass, 1e6 * p.mass.volume, com, mom,
                 std::string(vaw::name(p.category.category)).c_str(), p.category.reason.c_str());
+    if (!p.unitMembers.empty())
+      std::printf("%-18s a unit of %zu parts, handled as one%s%s\n", "", p.unitMembers.size(), p.unitReason.empty() ? "" : ": ",
+                  p.unitReason.c_str());
     if (p.disagreement)
       std::printf("%-18s %s vs mesh: mass %.3f %%, centre of mass %.3f mm, inertia %.3f %%\n", "", massSource(p.massSource),
                   100.0 * p.disagreement->massRel, 1e3 * p.disagreement->comDistance, 100.0 * p.disagreement->inertiaRel);

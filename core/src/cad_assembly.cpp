@@ -17,6 +17,7 @@
 
 #include "collision/geometry2d.hpp"
 #include "vaw/collision/surface_patches.hpp"
+#include "cad_units.hpp"
 #include "load_detail.hpp"
 #include "vaw/cad_faces.hpp"
 #include "vaw/categories.hpp"
@@ -103,6 +104,15 @@ void checkCancel(const ProgressFn& progress, double f, const std::string& stage)
   if (progress && !progress(std::clamp(f, 0.0, 1.0), stage)) throw LoadCancelled();
 }
 
+// The parts of a unit as the tree shows them: names, no geometry of their own.
+TreeNode unitTree(const ImportedNode& n) {
+  TreeNode t;
+  t.kind = TreeNode::Kind::MeshNode;
+  t.name = !n.name.empty() ? n.name : n.solid ? n.solid->product : std::string("(unnamed)");
+  for (const auto& c : n.children) t.children.push_back(unitTree(c));
+  return t;
+}
+
 // Walks the file's tree: sub-assemblies become groups, solid instances parts (in file order). A part is
 // named by its instance, else its product, else the nearest named ancestor (`ancestor`); the STEP reader
 // never passes on the names Open CASCADE makes up for unnamed labels.
@@ -124,6 +134,8 @@ TreeNode walk(const ImportedNode& n, const Eigen::Isometry3d& parent, std::vecto
     t.kind = TreeNode::Kind::Part;
     t.name = name;
     t.index = out.size();
+    // A unit's parts (cad_units.hpp), by name only: it moves as one.
+    for (const auto& c : n.children) t.children.push_back(unitTree(c));
     out.push_back({&n, pose, name});
     return t;
   }
@@ -600,6 +612,8 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "a length unit the file declares",
                           *imported.declaredUnit + " (converted to metres)"});
 
+  // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
+  const std::map<std::string, std::string> units = detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, progress);
   std::vector<Instance> instances;
   std::set<std::string> names;
   a.tree = walk(imported.root, Eigen::Isometry3d::Identity(), instances, names);
@@ -681,6 +695,10 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     p.extent = principalExtent(*p.mesh, p.principal.axes);
     p.category = categorize(p.mass.mass, p.extent, options.categories);
     p.pose = in.pose;
+    if (!in.node->children.empty()) {
+      for (const ImportedNode& c : in.node->children) p.unitMembers.push_back(c.name.empty() && c.solid ? c.solid->product : c.name);
+      if (const auto u = units.find(in.node->name); u != units.end()) p.unitReason = u->second;
+    }
     a.parts.push_back(std::move(p));
   }
 

@@ -136,6 +136,9 @@ struct Verdict {
   double value = 0.0, limit = 0.0;
 };
 
+// Radii apart by less than this (m) are one radius as an export rounds it.
+constexpr double kRounding = 1e-6;
+
 // A convex cylinder inside a concave one on (nearly) the same axis, overlapping along it. On success `f`
 // holds the insert, a's face being `x`.
 Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTolerances& tol, FoundConstraint& f) {
@@ -149,12 +152,11 @@ Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTole
   const double offAxis = (rel - u * u.dot(rel)).norm();
   if (offAxis > tol.distance) return {Refusal::AxesApart, offAxis, tol.distance};
   const double clearance = bore.face->radius - shaft.face->radius;
-  // Interference is an insert where a designer models it so (a thread at its tap drill, a press fit).
+  // Interference is an insert where a designer models it so (a thread at its tap drill, a press fit of a
+  // few micrometres); below a micrometre it is an export's rounding of an exact fit.
   std::optional<DesignedInterference> designed;
-  if (clearance < -tol.distance) {
-    designed = designedInterference(shaft.face->radius, bore.face->radius);
-    if (!designed) return {Refusal::Interference, -clearance, tol.distance};
-  }
+  if (clearance < -kRounding) designed = designedInterference(shaft.face->radius, bore.face->radius);
+  if (clearance < -tol.distance && !designed) return {Refusal::Interference, -clearance, tol.distance};
   const double loosest = std::min(tol.maxClearance, tol.maxClearanceRel * bore.face->radius);
   if (clearance > loosest) return {Refusal::TooLoose, clearance, loosest};
   // Both faces' extents along the bore's axis, from the bore's axis point.

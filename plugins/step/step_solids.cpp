@@ -4,6 +4,7 @@
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepGProp.hxx>
 #include <BRepMesh_Context.hxx>
 #include <BRepMesh_DelabellaMeshAlgoFactory.hxx>
@@ -151,6 +152,30 @@ TopoDS_Shape withSnappedParameterLines(const TopoDS_Shape& solid) {
   return copy;
 }
 
+// The closed volumes `shape`'s faces make once sewn, the sewing tolerance the largest of the file's own edge
+// tolerances (at least 1e-6 mm): a gap the file itself accepts is no gap.
+std::vector<TopoDS_Solid> sewnSolids(const TopoDS_Shape& shape) {
+  double tolerance = 1e-6;
+  for (TopExp_Explorer e(shape, TopAbs_EDGE); e.More(); e.Next()) tolerance = std::max(tolerance, BRep_Tool::Tolerance(TopoDS::Edge(e.Current())));
+  BRepBuilderAPI_Sewing sewing(2.0 * tolerance);
+  for (TopExp_Explorer e(shape, TopAbs_FACE); e.More(); e.Next()) sewing.Add(e.Current());
+  sewing.Perform();
+  std::vector<TopoDS_Solid> out;
+  for (TopExp_Explorer e(sewing.SewedShape(), TopAbs_SHELL); e.More(); e.Next()) {
+    const TopoDS_Shell shell = TopoDS::Shell(e.Current());
+    if (!BRep_Tool::IsClosed(shell)) continue;
+    BRepBuilderAPI_MakeSolid make(shell);
+    if (!make.IsDone()) continue;
+    TopoDS_Solid solid = make.Solid();
+    // Sewn faces keep their own orientations: a solid turned inside out has a negative volume.
+    GProp_GProps props;
+    BRepGProp::VolumeProperties(solid, props);
+    if (props.Mass() < 0.0) solid.Reverse();
+    out.push_back(solid);
+  }
+  return out;
+}
+
 }  // namespace
 
 // A solid whose tessellation is open although its B-rep is closed is meshed again: with its parameter lines
@@ -196,6 +221,12 @@ void Reader::measure(Product& p) {
   }
   for (TopExp_Explorer e(shape, TopAbs_FACE, TopAbs_SHELL); e.More(); e.Next()) ++looseFaces;
   for (TopExp_Explorer e(shape, TopAbs_EDGE, TopAbs_FACE); e.More(); e.Next()) ++edges;
+  if (solids.empty() && openShells + looseFaces > 0) {
+    // Faces that close a volume but share no edges (written unsewn): sewn within the file's own tolerance.
+    solids = sewnSolids(shape);
+    if (!solids.empty()) warnings_.push_back("\"" + p.name + "\": its faces shared no edges; sewn into " + std::to_string(solids.size()) +
+                                             (solids.size() == 1 ? " closed solid" : " closed solids"));
+  }
   if (solids.empty()) {
     if (openShells + looseFaces > 0) return skip(p, "no solid (an open shell or loose faces, not a closed volume)");
     if (edges > 0) return skip(p, "no solid (wireframe representation)");

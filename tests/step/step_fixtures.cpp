@@ -1,12 +1,29 @@
 #include "step_fixtures.hpp"
 
+#include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_MakeShell.hxx>
+#include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepBuilderAPI_NurbsConvert.hxx>
+#include <BRepFilletAPI_MakeChamfer.hxx>
+#include <BRepFilletAPI_MakeFillet.hxx>
+#include <BRepGProp.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRep_Tool.hxx>
+#include <GProp_GProps.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <TopoDS_Shell.hxx>
+#include <TopoDS_Vertex.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
@@ -25,8 +42,10 @@
 #include <TDocStd_Document.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Solid.hxx>
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Wire.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_ColorTool.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
@@ -39,6 +58,8 @@
 
 #include <array>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <vector>
@@ -435,6 +456,187 @@ void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY
   for (int j = 0; j < tilesY; ++j)
     for (int i = 0; i < tilesX; ++i)
       w.instance(root, tile, ("tile-" + std::to_string(++n)).c_str(), at3(kTilePitchX * i, kTilePitchY * j, 0.0));
+  w.write(file, "AP214", false);
+}
+
+namespace {
+
+// Edges whose two ends satisfy `pick` (both within the test), chamfered by `d` or filleted by `r`.
+using EdgePick = std::function<bool(const gp_Pnt&, const gp_Pnt&)>;
+
+std::vector<TopoDS_Edge> edgesWhere(const TopoDS_Shape& s, const EdgePick& pick) {
+  std::vector<TopoDS_Edge> out;
+  TopTools_IndexedMapOfShape edges;
+  TopExp::MapShapes(s, TopAbs_EDGE, edges);
+  for (int i = 1; i <= edges.Extent(); ++i) {
+    const TopoDS_Edge e = TopoDS::Edge(edges(i));
+    if (BRep_Tool::Degenerated(e)) continue;
+    const gp_Pnt a = BRep_Tool::Pnt(TopExp::FirstVertex(e)), b = BRep_Tool::Pnt(TopExp::LastVertex(e));
+    if (pick(a, b)) out.push_back(e);
+  }
+  return out;
+}
+
+TopoDS_Shape chamfered(const TopoDS_Shape& s, double d, const EdgePick& pick) {
+  BRepFilletAPI_MakeChamfer op(s);
+  for (const TopoDS_Edge& e : edgesWhere(s, pick)) op.Add(d, e);
+  op.Build();
+  if (!op.IsDone()) throw std::runtime_error("step fixtures: chamfer failed");
+  return op.Shape();
+}
+
+TopoDS_Shape filleted(const TopoDS_Shape& s, double r, const EdgePick& pick) {
+  BRepFilletAPI_MakeFillet op(s);
+  for (const TopoDS_Edge& e : edgesWhere(s, pick)) op.Add(r, e);
+  op.Build();
+  if (!op.IsDone()) throw std::runtime_error("step fixtures: fillet failed");
+  return op.Shape();
+}
+
+// A cone along z from radius r0 at z0 to radius r1 at z1.
+TopoDS_Shape coneZ(double x, double y, double z0, double r0, double z1, double r1) {
+  return BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(x, y, z0), gp_Dir(0, 0, 1)), r0, r1, z1 - z0).Shape();
+}
+
+// A blind hole as a twist drill leaves it: radius r from z `top` down to `bottom`, a 118 degree point below.
+TopoDS_Shape drilled(double x, double y, double top, double bottom, double r) {
+  const double point = r / std::tan(59.0 * M_PI / 180.0);
+  return fuse(cylinder(x, y, bottom, r, top - bottom + 1), coneZ(x, y, bottom - point, 0.0, bottom, r));
+}
+
+bool near(double a, double b) { return std::abs(a - b) < 1e-6; }
+
+// The fastened block's products, each in its own frame, and every instance: product, name, placement.
+struct Fastened {
+  std::map<std::string, TopoDS_Shape> products;
+  struct Use {
+    std::string product, name;
+    double x, y, z;
+  };
+  std::vector<Use> uses;
+};
+
+Fastened fastenedBlock(const DesignerStyle& style) {
+  Fastened f;
+  // BASE: x -60..60, y -40..40, z 0..20 (placed at (60, 40, 0)); tapped M6 at (+-20, 0) down to z 6; dowel
+  // holes r 3 at (0, +-12), z 12..20.
+  TopoDS_Shape base = chamfered(box(-60, -40, 0, 60, 40, 20), 1.0, [](const gp_Pnt& a, const gp_Pnt& b) { return near(a.Z(), 20) && near(b.Z(), 20); });
+  for (const double x : {-20.0, 20.0}) base = cut(base, drilled(x, 0, 20, 6, 2.5));
+  for (const double y : {-12.0, 12.0}) base = cut(base, cylinder(0, y, 12, 3.0, 9));
+  f.products["BASE"] = unify(base);
+  // BRACKET: x -30..30, y -20..20, z 0..15 (placed at (60, 40, 20)); counterbores at (+-20, 0); dowel holes
+  // r 3.01 from below to z 9; tapped M5 at (15, 9) and (-15, -9) from z 15 down to 3.
+  TopoDS_Shape bracket = filleted(box(-30, -20, 0, 30, 20, 15), 3.0, [](const gp_Pnt& a, const gp_Pnt& b) {
+    return near(a.X(), b.X()) && near(a.Y(), b.Y());
+  });
+  for (const double x : {-20.0, 20.0}) bracket = cut(cut(bracket, cylinder(x, 0, -1, 3.2, 17)), cylinder(x, 0, 8.5, 5.5, 7.5));
+  for (const double y : {-12.0, 12.0}) bracket = cut(bracket, cylinder(0, y, -1, 3.01, 10));
+  for (const auto& [x, y] : {std::pair{15.0, 9.0}, std::pair{-15.0, -9.0}}) bracket = cut(bracket, drilled(x, y, 15, 3, 2.1));
+  f.products["BRACKET"] = unify(bracket);
+  // COVER: x -25..25, y -17..17, z 0..4 (placed at (60, 40, 35)); countersinks at (15, 9), (-15, -9): a
+  // 90 degree cone from r 5 at the top to r 2.75, the hole r 2.75 below.
+  TopoDS_Shape cover = box(-25, -17, 0, 25, 17, 4);
+  for (const auto& [x, y] : {std::pair{15.0, 9.0}, std::pair{-15.0, -9.0}})
+    cover = cut(cut(cover, cylinder(x, y, -1, 2.75, 3)), coneZ(x, y, 1.75, 2.75, 4.5, 5.5));
+  f.products["COVER"] = unify(cover);
+  // ISO 4762 M6x20: shank r 3 z 0..20, head r 5 z 20..26; the tip and the head's top edge chamfered 0.5.
+  TopoDS_Shape cap = fuse(cylinder(0, 0, 0, 3, 20), cylinder(0, 0, 20, 5, 6));
+  cap = chamfered(unify(cap), 0.5, [](const gp_Pnt& a, const gp_Pnt& b) { return (near(a.Z(), 0) && near(b.Z(), 0)) || (near(a.Z(), 26) && near(b.Z(), 26)); });
+  f.products["ISO 4762 M6x20"] = cap;
+  // ISO 10642 M5x12: shank r 2.5 z 0..12, a 90 degree head from r 2.5 at z 12 to r 5 at z 14.5.
+  f.products["ISO 10642 M5x12"] = unify(fuse(cylinder(0, 0, 0, 2.5, 12), coneZ(0, 0, 12, 2.5, 14.5, 5.0)));
+  // ISO 8734 6x16: r 3.003 (r 3.3 for the clash), z 0..16, both ends chamfered 0.5.
+  const auto dowel = [](double r) {
+    return chamfered(cylinder(0, 0, 0, r, 16), 0.5, [](const gp_Pnt& a, const gp_Pnt& b) { return near(a.Z(), b.Z()); });
+  };
+  f.products["ISO 8734 6x16"] = dowel(3.003);
+  if (style.clash) f.products["DOWEL 6.6x16"] = dowel(3.3);
+  f.uses = {{"BASE", "base", 60, 40, 0},
+            {"BRACKET", "bracket", 60, 40, 20},
+            {"COVER", "cover", 60, 40, 35},
+            {style.clash ? "DOWEL 6.6x16" : "ISO 8734 6x16", "dowel-1", 60, 28, 12},
+            {"ISO 8734 6x16", "dowel-2", 60, 52, 12},
+            {"ISO 4762 M6x20", "cap-screw-1", 40, 40, 8.5},
+            {"ISO 4762 M6x20", "cap-screw-2", 80, 40, 8.5},
+            {"ISO 10642 M5x12", "csk-screw-1", 75, 49, 24.5},
+            {"ISO 10642 M5x12", "csk-screw-2", 45, 31, 24.5}};
+  return f;
+}
+
+}  // namespace
+
+void writeFastenedBlock(const std::filesystem::path& file, const DesignerStyle& style) {
+  Writer w;
+  w.bspline = style.bsplineFaces;
+  const Fastened f = fastenedBlock(style);
+  const TDF_Label root = w.assembly("FASTENED-BLOCK");
+  std::map<std::string, TDF_Label> labels;
+  for (const auto& [name, shape] : f.products) labels[name] = w.product(name.c_str(), shape);
+  for (const auto& u : f.uses) w.instance(root, labels.at(u.product), u.name.c_str(), at(u.x, u.y, u.z));
+  w.write(file, "AP214", style.inches);
+}
+
+double fastenedBlockOverlap(const std::string& a, const std::string& b, const DesignerStyle& style) {
+  const Fastened f = fastenedBlock(style);
+  const auto placedShape = [&](const std::string& name) {
+    for (const auto& u : f.uses)
+      if (u.name == name) {
+        gp_Trsf t;
+        t.SetTranslation(gp_Vec(u.x, u.y, u.z));
+        return BRepBuilderAPI_Transform(f.products.at(u.product), t, true).Shape();
+      }
+    throw std::invalid_argument("step fixtures: no instance " + name);
+  };
+  BRepAlgoAPI_Common common(placedShape(a), placedShape(b));
+  if (!common.IsDone()) throw std::runtime_error("step fixtures: boolean common failed");
+  GProp_GProps props;
+  BRepGProp::VolumeProperties(common.Shape(), props, 1e-9);
+  return props.Mass();
+}
+
+void writeBearingInHousing(const std::filesystem::path& file) {
+  Writer w;
+  const TDF_Label root = w.assembly("BEARING-IN-HOUSING");
+  // HOUSING: x -20..20, y -20..20, z 0..12 with the bearing's seat r 11 z 5..12 and a through hole r 6.
+  const TopoDS_Shape housing = unify(cut(cut(box(-20, -20, 0, 20, 20, 12), cylinder(0, 0, 5, 11, 8)), cylinder(0, 0, -1, 6, 14)));
+  // The rings 7 wide (z 0..7), grooved for the balls: a torus (r 7.75 about the axis, tube r 1.75) at z 3.5.
+  const TopoDS_Shape groove = BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 3.5), gp_Dir(0, 0, 1)), 7.75, 1.75).Shape();
+  const TopoDS_Shape inner = cut(tube(4, 6.5, 7), groove);
+  const TopoDS_Shape outer = cut(tube(9, 11, 7), groove);
+  const TopoDS_Shape ball = BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.75).Shape();
+  const TDF_Label bearing = w.assembly("BEARING-608");
+  w.instance(bearing, w.product("RING-INNER", inner), "ring-inner", at(0, 0, 0.001));
+  w.instance(bearing, w.product("RING-OUTER", outer), "ring-outer", at(0, 0, -0.001));
+  const TDF_Label ballL = w.product("BALL", ball);
+  for (int k = 0; k < 8; ++k) {
+    const double a = 2.0 * M_PI * k / 8.0;
+    w.instance(bearing, ballL, ("ball-" + std::to_string(k + 1)).c_str(), at(7.75 * std::cos(a), 7.75 * std::sin(a), 3.5));
+  }
+  w.instance(root, w.product("HOUSING", housing), "housing", at(20, 20, 0));
+  w.instance(root, bearing, "bearing", at(20, 20, 5));
+  w.instance(root, w.product("SHAFT", cylinder(0, 0, 0, 4, 30)), "shaft", at(20, 20, -5));
+  w.write(file, "AP214", false);
+}
+
+void writeUnsewnAndHollow(const std::filesystem::path& file) {
+  Writer w;
+  const TDF_Label root = w.assembly("UNSEWN-AND-HOLLOW");
+  // Six faces, each with its own edges and vertices, in one shell: closed in space, open in topology.
+  const double X = 40, Y = 30, Z = 20;
+  const gp_Pnt c[8] = {{0, 0, 0}, {X, 0, 0}, {X, Y, 0}, {0, Y, 0}, {0, 0, Z}, {X, 0, Z}, {X, Y, Z}, {0, Y, Z}};
+  const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+  BRep_Builder b;
+  TopoDS_Shell shell;
+  b.MakeShell(shell);
+  for (const auto& q : quads) b.Add(shell, BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakePolygon(c[q[0]], c[q[1]], c[q[2]], c[q[3]], true).Wire()).Face());
+  TopoDS_Solid unsewn;
+  b.MakeSolid(unsewn);
+  b.Add(unsewn, shell);
+  const TopoDS_Shape hollow = cut(box(0, 0, 0, 40, 40, 40), box(10, 10, 10, 30, 30, 30));
+  const bool bspline = w.bspline;
+  w.instance(root, w.product("UNSEWN-BOX", unsewn), "unsewn-box", at(0, 0, 0.5));
+  w.instance(root, w.product("HOLLOW-BOX", hollow), "hollow-box", at(60, 0, 0.5));
+  w.bspline = bspline;
   w.write(file, "AP214", false);
 }
 

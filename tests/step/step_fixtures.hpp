@@ -58,6 +58,36 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style 
 // tile, 24 inserts and 14 mates. 9 x 6 tiles make 1,027 parts with 540 holes in a 1.9 m plate.
 void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY);
 
+// An assembly modelled the way designers model fasteners and fits (mm, Z up; step_fixtures.cpp has every
+// coordinate): the "BASE" block (120 x 80 x 20, top edges chamfered) with two tapped M6 holes modelled at
+// the tap drill (r 2.5, 14 deep, a 118 degree drill point) and two dowel holes (r 3, 8 deep); the
+// "BRACKET" (60 x 40 x 15, vertical edges filleted r 3) on it, held by two "ISO 4762 M6x20" cap screws
+// (shank r 3 at nominal, head r 5 x 6, tips and heads chamfered) in counterbores (r 3.2 through, r 5.5 x
+// 6.5), located by two "ISO 8734 6x16" dowels (r 3.003: pressed into the base, a clearance of 7 um in the
+// bracket); the "COVER" (50 x 34 x 4) on the bracket over the cap screws, held by two "ISO 10642 M5x12"
+// countersunk screws (90 degree heads flush in countersinks) in the bracket's tapped M5 holes (r 2.1) at
+// (+-15, +-9) from the middle.
+// Instances: base, bracket, cover, cap-screw-1/2, dowel-1/2, csk-screw-1/2. 12 inserts (4 threaded, 2
+// press) and 6 mates.
+struct DesignerStyle {
+  bool inches = false;
+  bool bsplineFaces = false;
+  // dowel-1 r 3.3 in its r 3 hole: neither a press fit nor a thread, a clash of the modelling.
+  bool clash = false;
+};
+void writeFastenedBlock(const std::filesystem::path& file, const DesignerStyle& style = {});
+// The exact volume (mm^3) two of its instances share where the file places them, from Open CASCADE's
+// boolean common of their solids: the reference the interference check is measured against.
+double fastenedBlockOverlap(const std::string& a, const std::string& b, const DesignerStyle& style = {});
+// A ball bearing as CAD libraries model it, a sub-assembly "BEARING-608" of an inner ring (r 4..6.5), an
+// outer ring (r 9..11, both 7 wide with a groove for the balls) and 8 balls (r 1.75 at r 7.75), seated in a
+// "HOUSING" block's bore (r 11, 7 deep), with a "SHAFT" (r 4, 30 long) through its inner ring. The
+// instances: housing, bearing (ring-inner, ring-outer, ball-1..8), shaft.
+void writeBearingInHousing(const std::filesystem::path& file);
+// A part of 6 faces that share no edges (as some exporters leave a solid: unsewn), "UNSEWN-BOX" 40 x 30 x 20,
+// beside a "HOLLOW-BOX" 40 x 40 x 40 with a closed void 20 x 20 x 20 at its centre.
+void writeUnsewnAndHollow(const std::filesystem::path& file);
+
 // `text` (a STEP file's) with its first NEXT_ASSEMBLY_USAGE_OCCURRENCE written `copies` times more, under new
 // entity numbers from 900000: that many more instances of one product, the "instance bomb" the reader's
 // first pass refuses. Throws std::invalid_argument when the text has no such entity.

@@ -52,6 +52,10 @@ struct Part {
   std::optional<Eigen::Vector3f> color;    // the CAD file's colour; else the material's
   std::shared_ptr<const CadSolid> cad;     // the CAD solid (exact faces), shared between instances
   std::string product;                     // the CAD product's own name (the part's is the instance's)
+  // A bought-in unit (a bearing, a motor, a servo: a CAD sub-assembly handled as one rigid part,
+  // docs/step.md, "Units"): the names of the parts it holds and why it is one; empty for a part.
+  std::vector<std::string> unitMembers;
+  std::string unitReason;
 };
 
 struct EnvironmentObject {

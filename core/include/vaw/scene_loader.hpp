@@ -3,6 +3,7 @@
 // All or nothing: on any error an InputError is thrown and nothing is half-loaded.
 #include <filesystem>
 #include <optional>
+#include <set>
 #include <string>
 
 #include "vaw/assembly.hpp"
@@ -19,11 +20,14 @@ struct LoadOptions {
   double massDisagreementWarning = 0.01;
   // Tessellation and time limit for CAD files (STEP).
   ImportOptions import;
-  // The base of a CAD assembly, by part name; empty: the heaviest part.
+  // The base of a CAD assembly, by part name; empty: the part it stands on (chooseBase).
   std::optional<std::string> cadBase;
   // Which way a CAD assembly stands: "auto" (the base on its most stable face) or the file's axis that
   // points up ("+y", ...); empty: what the scene saved, else "auto".
   std::optional<std::string> cadUp;
+  // CAD sub-assemblies, by their instance names: handled as parts although they form a unit, and handled as
+  // one unit although they come apart (docs/step.md, "Units").
+  std::set<std::string> cadSplit, cadJoin;
 };
 
 // Version 2 adds "tools", version 3 "cad" and constraints between parts ("partner"); earlier files still load.

@@ -358,6 +358,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
   std::multimap<std::uint64_t, const WorldObject*> built;
   auto setupMesh = [&](WorldObject& o, const std::shared_ptr<const TriMesh>& display, const CadSolid* cad) {
     o.info.displayTriangles = display ? display->triangleCount() : 0;
+    o.deflection = cad ? cad->deflection : 0.0;
     if (!display) {
       warn(w.diagnostics, Diagnostic::Severity::Error, displayName(o), "no-geometry", "a mesh", "none");
       o.info.proxy = ProxyKind::None;
@@ -518,6 +519,7 @@ CollisionWorld CollisionWorld::instance() const {
     o.boxHalf = from.boxHalf;
     o.com = from.com;
     o.designed = from.designed;
+    o.deflection = from.deflection;
     return o;
   };
   w.parts.reserve(impl_->parts.size());

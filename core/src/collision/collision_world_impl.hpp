@@ -63,11 +63,17 @@ struct WorldObject {
   Eigen::Vector3d boxHalf = Eigen::Vector3d::Zero();  // Box proxies
   Eigen::Vector3d com = Eigen::Vector3d::Zero();
   std::vector<DesignedFit> designed;  // parts only
+  double deflection = 0.0;  // m, the CAD tessellation's chordal deflection (0 for a plain mesh)
 
   [[nodiscard]] Eigen::Isometry3d fclPose(const Eigen::Isometry3d& p) const { return p * geometryOffset; }
+  // How far a triangle may lie inside the true surface: a cylinder's facets by its sagitta; a facet of any
+  // other curved face (a cone's, a fillet's: a planar patch of one or two triangles) by the tessellation's
+  // chordal deflection, so that two such faces in contact (a screw's head in its countersink) only touch.
   [[nodiscard]] double sagitta(int tri) const {
     const int c = patches->cylinderOf.empty() ? -1 : patches->cylinderOf[static_cast<std::size_t>(tri)];
-    return c < 0 ? 0.0 : patches->cylinders[static_cast<std::size_t>(c)].sagitta;
+    if (c >= 0) return patches->cylinders[static_cast<std::size_t>(c)].sagitta;
+    const int p = patches->planeOf.empty() ? -1 : patches->planeOf[static_cast<std::size_t>(tri)];
+    return p >= 0 && patches->planes[static_cast<std::size_t>(p)].triangles.size() <= 2 ? deflection : 0.0;
   }
 };
 

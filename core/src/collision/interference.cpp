@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "vaw/collision/collision_world.hpp"
 
@@ -78,63 +79,158 @@ std::vector<double> crossings(const Solid& s, const Eigen::Vector3d& p, int k) {
   return out;
 }
 
-struct Overlap {
-  double volume = 0.0, longest = 0.0;
+// The overlap of two solids seen by lines along axis k through an n x n grid over the box's other two sides
+// (u = k + 1, v = k + 2): each line's stretches inside both.
+struct Lines {
+  int k = 0, n = 0;
+  double du = 0.0, dv = 0.0;
+  std::vector<std::vector<std::pair<double, double>>> stretches;  // per line (i, j) at i * n + j
+  double volume = 0.0;
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();
 };
 
-// The common volume of two solids by lines along axis k through a grid of n x n over the box's other two
-// sides: each line's stretches inside both, summed times the cell's area.
-Overlap overlapAlong(const Solid& allA, const Solid& allB, const Eigen::AlignedBox3d& box, int k, int n) {
+// Lines off the cells' centres by an irrational fraction: CAD geometry sits on round numbers, and a line
+// through a vertex or along an edge would count one crossing twice.
+constexpr double kOffU = 0.5 + 0.0618034, kOffV = 0.5 + 0.0414214;
+
+Lines overlapAlong(const Solid& allA, const Solid& allB, const Eigen::AlignedBox3d& box, int k, int n) {
   const int u = (k + 1) % 3, v = (k + 2) % 3;
   const Solid a = alongAxis(allA, box, k), b = alongAxis(allB, box, k);
-  const Eigen::Vector3d size = box.sizes();
-  const double du = size[u] / n, dv = size[v] / n;
-  Overlap o;
+  Lines o;
+  o.k = k;
+  o.n = n;
+  o.du = box.sizes()[u] / n;
+  o.dv = box.sizes()[v] / n;
+  o.stretches.resize(static_cast<std::size_t>(n * n));
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
-      // Off the cell's centre by an irrational fraction: CAD geometry sits on round numbers, and a line
-      // through a vertex or along an edge would count one crossing twice.
       Eigen::Vector3d p = box.min();
-      p[u] += (i + 0.5 + 0.0618034) * du;
-      p[v] += (j + 0.5 + 0.0414214) * dv;
+      p[u] += (i + kOffU) * o.du;
+      p[v] += (j + kOffV) * o.dv;
       const std::vector<double> ca = crossings(a, p, k), cb = crossings(b, p, k);
       for (std::size_t x = 0; x + 1 < ca.size(); x += 2)
         for (std::size_t y = 0; y + 1 < cb.size(); y += 2) {
           const double lo = std::max({ca[x], cb[y], box.min()[k]}), hi = std::min({ca[x + 1], cb[y + 1], box.max()[k]});
           if (hi <= lo) continue;
-          o.volume += (hi - lo) * du * dv;
-          o.longest = std::max(o.longest, hi - lo);
+          o.stretches[static_cast<std::size_t>(i * n + j)].emplace_back(lo, hi);
+          o.volume += (hi - lo) * o.du * o.dv;
           Eigen::Vector3d mid = p;
           mid[k] = 0.5 * (lo + hi);
-          o.moment += mid * (hi - lo) * du * dv;
+          o.moment += mid * (hi - lo) * o.du * o.dv;
         }
     }
   return o;
 }
 
-// A clash measured on the meshes: the volume along the axis that sees it best (the mean of three would mix
-// their errors), the depth as the least, over the three axes, of the longest stretch along it.
+// The length of the stretch of `lines` through point p (0 when p is in none).
+double stretchThrough(const Lines& lines, const Eigen::AlignedBox3d& box, const Eigen::Vector3d& p) {
+  const int u = (lines.k + 1) % 3, v = (lines.k + 2) % 3;
+  const auto i = static_cast<int>(std::floor((p[u] - box.min()[u]) / lines.du)), j = static_cast<int>(std::floor((p[v] - box.min()[v]) / lines.dv));
+  if (i < 0 || j < 0 || i >= lines.n || j >= lines.n) return 0.0;
+  for (const auto& [lo, hi] : lines.stretches[static_cast<std::size_t>(i * lines.n + j)])
+    if (p[lines.k] >= lo && p[lines.k] <= hi) return hi - lo;
+  return 0.0;
+}
+
+// A clash measured on the meshes: the volume along the axis that sees most of it (the mean of three would
+// mix their errors); the depth as the overlap's thickness, the largest over points inside both of the
+// shortest of the three stretches through the point (a dowel 0.3 mm too large in its hole: 0.3 mm, whatever
+// its length); the direction, the axis along which that thickness is measured.
 void measureClash(Interference& r, const TriMesh& ma, const Eigen::Isometry3d& pa, const TriMesh& mb, const Eigen::Isometry3d& pb,
                   const Eigen::AlignedBox3d& common) {
   const Solid a = worldSolid(ma, pa), b = worldSolid(mb, pb);
-  constexpr int kLines = 64;
-  double depth = std::numeric_limits<double>::infinity();
-  Overlap best;
-  for (int k = 0; k < 3; ++k) {
-    const Overlap o = overlapAlong(a, b, common, k, kLines);
-    if (o.longest < depth) {
-      depth = o.longest;
-      r.direction = Eigen::Vector3d::Unit(k);
-    }
-    if (o.volume > best.volume) best = o;
-  }
-  r.volume = best.volume;
-  r.depth = std::isfinite(depth) ? depth : 0.0;
-  r.where = best.volume > 0.0 ? Eigen::Vector3d(best.moment / best.volume) : common.center();
+  constexpr int kLines = 48;
+  std::array<Lines, 3> lines;
+  for (int k = 0; k < 3; ++k) lines[static_cast<std::size_t>(k)] = overlapAlong(a, b, common, k, kLines);
+  const Lines& most = *std::max_element(lines.begin(), lines.end(), [](const Lines& x, const Lines& y) { return x.volume < y.volume; });
+  r.volume = most.volume;
+  r.where = most.volume > 0.0 ? Eigen::Vector3d(most.moment / most.volume) : common.center();
+  // Thickness at the middles of the stretches along x: every point inside both lies on one.
+  r.depth = 0.0;
+  const Lines& along = lines[0];
+  for (int i = 0; i < kLines; ++i)
+    for (int j = 0; j < kLines; ++j)
+      for (const auto& [lo, hi] : along.stretches[static_cast<std::size_t>(i * kLines + j)]) {
+        Eigen::Vector3d p = common.min();
+        p[1] += (i + kOffU) * along.du;
+        p[2] += (j + kOffV) * along.dv;
+        // A few points along the stretch, not only its middle: a thin band crossed lengthwise.
+        for (const double f : {0.25, 0.5, 0.75}) {
+          p[0] = lo + f * (hi - lo);
+          double thinnest = hi - lo;
+          int axis = 0;
+          for (int k = 1; k < 3; ++k) {
+            const double s = stretchThrough(lines[static_cast<std::size_t>(k)], common, p);
+            if (s > 0.0 && s < thinnest) thinnest = s, axis = k;
+          }
+          if (thinnest > r.depth) {
+            r.depth = thinnest;
+            r.direction = Eigen::Vector3d::Unit(axis);
+          }
+        }
+      }
 }
 
 }  // namespace
+
+std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Assembly& assembly, PartId p, PartId q) {
+  if (p > q) std::swap(p, q);
+  // The designed fit between the two (a screw may hold both a thread and a head's seat in one part).
+  const Constraint* designed = nullptr;
+  for (const Constraint& c : assembly.constraints) {
+    const PartId partner = c.partner.value_or(assembly.base.value_or(c.part));
+    const bool between = (c.part == p && partner == q) || (c.part == q && partner == p);
+    if (between && c.type == Constraint::Type::Insert && c.found && c.found->fit != Constraint::Found::Fit::Clearance) designed = &c;
+  }
+  const ObjectId a = ObjectId::part(p), b = ObjectId::part(q);
+  QueryOptions any;
+  any.stopAtFirst = true;
+  if (!designed && world.query(a, b, any).contacts.empty()) return std::nullopt;
+  Interference r;
+  r.a = p;
+  r.b = q;
+  QueryOptions deep;
+  deep.dropTouching = true;
+  deep.stopAtFirst = true;
+  deep.skipDesigned = true;
+  if (!world.query(a, b, deep).contacts.empty()) {
+    const Eigen::AlignedBox3d common = world.worldBounds(a).intersection(world.worldBounds(b));
+    measureClash(r, *assembly.parts[p].mesh, world.pose(a), *assembly.parts[q].mesh, world.pose(b), common);
+    // No deeper than the two tessellations may lie inside their true surfaces (a head in its countersink,
+    // facets of two tessellations of one surface) it cannot be told from touching.
+    const double tol = world.tolerances().distance;
+    double deflections = 0.0;
+    for (const PartId x : {p, q})
+      if (assembly.parts[x].cad) deflections += assembly.parts[x].cad->deflection;
+    if (r.depth > tol + deflections && r.volume > tol * tol * tol) {
+      r.kind = Interference::Kind::Clash;
+      return r;
+    }
+  }
+  if (!designed) {
+    Interference contact;
+    contact.a = p;
+    contact.b = q;
+    return contact;
+  }
+  const Constraint::Found& f = *designed->found;
+  Interference fit;
+  fit.a = p;
+  fit.b = q;
+  fit.kind = f.fit == Constraint::Found::Fit::Threaded ? Interference::Kind::Threaded : Interference::Kind::Press;
+  fit.thread = f.thread;
+  const double R = std::max(f.partRadius, f.partnerRadius), rb = std::min(f.partRadius, f.partnerRadius);
+  fit.volume = std::numbers::pi * (R * R - rb * rb) * f.overlap;
+  fit.depth = R - rb;
+  const PartId partner = designed->partner.value_or(*assembly.base);
+  const Eigen::Isometry3d& at = world.pose(ObjectId::part(partner));
+  fit.direction = (at.linear() * designed->baseAxis.direction).normalized();
+  // The middle of the band: on the axis, halfway along where the two overlap.
+  const Eigen::Vector3d onAxis = at * designed->baseAxis.point;
+  const Eigen::AlignedBox3d both = world.worldBounds(a).intersection(world.worldBounds(b));
+  fit.where = onAxis + fit.direction * fit.direction.dot(both.center() - onAxis);
+  return fit;
+}
 
 std::vector<Interference> interferences(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& poses, const PairProgress& progress) {
   std::vector<Interference> out;
@@ -150,58 +246,19 @@ std::vector<Interference> interferences(const Assembly& assembly, const std::vec
     for (const ObjectId& o : world.near(box, ObjectId::part(p)))
       if (o.kind == ObjectId::Kind::Part && o.index > p) pairs.emplace_back(p, o.index);
   }
+  // Designed fits are known from the exact faces; a press fit of a few micrometres may not show in the
+  // tessellations at all.
+  for (const Constraint& c : assembly.constraints)
+    if (c.type == Constraint::Type::Insert && c.found && c.found->fit != Constraint::Found::Fit::Clearance && assembly.base) {
+      const PartId partner = c.partner.value_or(*assembly.base);
+      pairs.emplace_back(std::min(c.part, partner), std::max(c.part, partner));
+    }
   std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [p, q] = pairs[k];
     if (progress && !progress(static_cast<double>(k) / static_cast<double>(pairs.size()), p, q)) throw LoadCancelled();
-    QueryOptions any;
-    any.stopAtFirst = true;
-    if (world.query(ObjectId::part(p), ObjectId::part(q), any).contacts.empty()) continue;
-    Interference r;
-    r.a = p;
-    r.b = q;
-    QueryOptions deep;
-    deep.dropTouching = true;
-    deep.stopAtFirst = true;
-    deep.skipDesigned = true;
-    const bool clash = !world.query(ObjectId::part(p), ObjectId::part(q), deep).contacts.empty();
-    // The designed fits between the two (a screw may hold both a thread and a head's seat in one part).
-    const Constraint* designed = nullptr;
-    for (const Constraint& c : assembly.constraints) {
-      const PartId partner = c.partner.value_or(assembly.base.value_or(c.part));
-      const bool between = (c.part == p && partner == q) || (c.part == q && partner == p);
-      if (between && c.type == Constraint::Type::Insert && c.found && c.found->fit != Constraint::Found::Fit::Clearance) designed = &c;
-    }
-    if (clash) {
-      const Eigen::AlignedBox3d common = world.worldBounds(ObjectId::part(p)).intersection(world.worldBounds(ObjectId::part(q)));
-      measureClash(r, *assembly.parts[p].mesh, poses[p], *assembly.parts[q].mesh, poses[q], common);
-      // Surfaces that cross without sharing measurable volume (facets of two tessellations of one
-      // surface, a rim on a face) only touch.
-      const double tol = world.tolerances().distance;
-      r.kind = r.depth > tol && r.volume > tol * tol * tol ? Interference::Kind::Clash : Interference::Kind::Contact;
-      if (r.kind == Interference::Kind::Contact) {
-        r = Interference{};
-        r.a = p;
-        r.b = q;
-      }
-    } else if (designed) {
-      const Constraint::Found& f = *designed->found;
-      r.kind = f.fit == Constraint::Found::Fit::Threaded ? Interference::Kind::Threaded : Interference::Kind::Press;
-      r.thread = f.thread;
-      const double R = std::max(f.partRadius, f.partnerRadius), rb = std::min(f.partRadius, f.partnerRadius);
-      r.volume = std::numbers::pi * (R * R - rb * rb) * f.overlap;
-      r.depth = R - rb;
-      const PartId partner = designed->partner.value_or(*assembly.base);
-      const Eigen::Isometry3d& at = poses[partner];
-      r.direction = (at.linear() * designed->baseAxis.direction).normalized();
-      // The middle of the band: on the axis, halfway along the shaft's stretch inside the bore.
-      const Eigen::Vector3d onAxis = at * designed->baseAxis.point;
-      const Eigen::AlignedBox3d both = world.worldBounds(ObjectId::part(p)).intersection(world.worldBounds(ObjectId::part(q)));
-      r.where = onAxis + r.direction * r.direction.dot(both.center() - onAxis);
-    } else {
-      r.kind = Interference::Kind::Contact;
-    }
-    out.push_back(std::move(r));
+    if (auto r = overlapAtRest(world, assembly, p, q)) out.push_back(std::move(*r));
   }
   std::stable_sort(out.begin(), out.end(), [](const Interference& x, const Interference& y) {
     const auto rank = [](Interference::Kind k) {

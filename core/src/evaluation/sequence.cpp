@@ -11,6 +11,7 @@
 #include <set>
 
 #include "vaw/collision/collision_world.hpp"
+#include "vaw/collision/interference.hpp"
 #include "vaw/collision/time_of_impact.hpp"
 #include "case_key.hpp"
 
@@ -279,6 +280,17 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));
 
   Sweep sweep(assembly, world, home, options);
+  // Two parts that share volume at home beyond a designed fit (a modelling error: a dowel drawn larger than
+  // its hole) would each block the other at once in every way. Each comes home through the other along the
+  // ways its constraints give it, and the way says so.
+  std::map<std::pair<PartId, PartId>, bool> clashing;
+  const auto clash = [&](PartId p, PartId q) {
+    const auto key = std::minmax(p, q);
+    const auto it = clashing.find(key);
+    if (it != clashing.end()) return it->second;
+    const auto overlap = collision::overlapAtRest(world, assembly, p, q);
+    return clashing[key] = overlap && overlap->kind == collision::Interference::Kind::Clash;
+  };
   for (PartId p = 0; p < n; ++p) {
     if (p == base || !inSequence[p]) continue;
     if (progress && !progress(static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
@@ -294,10 +306,18 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
       d.length = length;
       Eigen::AlignedBox3d swept = box;
       swept.extend(box.min() + length * d.out).extend(box.max() + length * d.out);
+      std::string through;
       for (const ObjectId& o : world.near(swept, mover)) {
         if (o.kind != ObjectId::Kind::Part || !inSequence[o.index]) continue;
-        if (const auto b = sweep.block(p, o.index, d.out, d.alongAxis, length)) d.blockers.push_back(*b);
+        const auto b = sweep.block(p, o.index, d.out, d.alongAxis, length);
+        if (!b) continue;
+        if (d.constraint && !b->undecided && b->distance <= options.tolerance && clash(p, o.index)) {
+          through += (through.empty() ? "" : ", ") + assembly.parts[o.index].name;
+          continue;
+        }
+        d.blockers.push_back(*b);
       }
+      if (!through.empty()) d.from += " (through its clash with " + through + ")";
       std::sort(d.blockers.begin(), d.blockers.end(),
                 [](const Blocker& x, const Blocker& y) { return x.distance != y.distance ? x.distance < y.distance : x.by < y.by; });
     }

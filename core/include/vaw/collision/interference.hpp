@@ -4,6 +4,7 @@
 // classified: touching only, a thread modelled at its tap drill, a press fit, or a clash (anything else:
 // a modelling error the user should see).
 #include <Eigen/Geometry>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,11 @@ std::string_view name(Interference::Kind k);
 // apart cost nothing; `progress` (fraction, pair) may stop it with LoadCancelled.
 std::vector<Interference> interferences(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& poses,
                                         const PairProgress& progress = {});
+
+// One pair as `world` holds them (the parts at their assembled poses): what the two share, or none when
+// they do not meet.
+class CollisionWorld;
+std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Assembly& assembly, PartId p, PartId q);
 
 // The assembled poses: each part's final pose, the base's own.
 std::vector<Eigen::Isometry3d> assembledPoses(const Assembly& assembly);
