@@ -644,7 +644,8 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
       // retries and the repair costs this part its exact collision, not the file.
       const MeshCheck check =
           detail::validateSolid(mesh, fileStr + " (product " + solid.product + ")", {}, detail::OpenMesh::Keep);
-      if (!check.closed() || !check.consistentlyOriented())
+      // Open edges only: a unit's parts that touch share edges between four triangles, which is no gap.
+      if (check.boundaryEdges > 0)
         a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "product " + solid.product,
                               "a closed tessellation (every edge shared by two triangles)",
                               check.summary() + "; kept: its mass properties are the exact B-rep's, but its collision mesh "

@@ -113,7 +113,9 @@ std::string trapped(const std::vector<Member>& members) {
     }
     if (!candidate) return {};
   }
-  const eval::SequencePlan plan = eval::planSequence(a);
+  eval::SequenceOptions strict;
+  strict.throughClashes = false;
+  const eval::SequencePlan plan = eval::planSequence(a, strict);
   if (plan.complete()) return {};
   // Trapped: held at once, in every way it has, by the others (a ball between its races, a rotor modelled
   // through its housing). A part that could move a little before it meets another (a bracket on a rod

@@ -311,7 +311,7 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
         if (o.kind != ObjectId::Kind::Part || !inSequence[o.index]) continue;
         const auto b = sweep.block(p, o.index, d.out, d.alongAxis, length);
         if (!b) continue;
-        if (d.constraint && !b->undecided && b->distance <= options.tolerance && clash(p, o.index)) {
+        if (options.throughClashes && d.constraint && !b->undecided && b->distance <= options.tolerance && clash(p, o.index)) {
           through += (through.empty() ? "" : ", ") + assembly.parts[o.index].name;
           continue;
         }

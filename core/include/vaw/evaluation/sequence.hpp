@@ -81,6 +81,10 @@ struct SequencePlan {
 struct SequenceOptions {
   double tolerance = 1e-5;  // m, where along its way a block is located
   double maxStep = 1e-3;    // m: within this of another part, the blocked check every maxStep of motion
+  // Two parts that clash at home (collision/interference.hpp) come home through each other along the ways
+  // their constraints give them, the way saying so; false: a clash blocks (whether a sub-assembly comes
+  // apart at all, cad_units.cpp).
+  bool throughClashes = true;
 };
 
 // How a part travels home along a way out `out`, for people: "down", "up", "along +x", or the components
