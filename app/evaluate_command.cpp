@@ -50,6 +50,12 @@ json toJson(const Assembly& a, const eval::SequencePlan& plan, double seconds) {
     const PartId p = plan.order[i];
     json e{{"part", a.parts[p].name}, {"step", plan.step[i]}};
     if (const auto* way = plan.wayOf(p)) e["comes_home"] = {{"from", way->from}, {"direction", {-way->out.x(), -way->out.y(), -way->out.z()}}};
+    if (const auto* sub = plan.subAssemblyOf(p)) e["sub_assembly"] = a.parts[sub->parts.front()].name;
+    if (const auto* w = plan.wrapOf(p)) {
+      json wrapped = json::array();
+      for (const PartId r : w->wraps) wrapped.push_back(a.parts[r].name);
+      e["wraps"] = wrapped;
+    }
     json after = json::array();
     for (const auto& e2 : plan.precedence)
       if (e2.after == p)
@@ -111,6 +117,17 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
     const PartId p = plan.order[i];
     std::string home = "(the base)", after;
     if (const auto* way = plan.wayOf(p)) home = travelText(way->out) + ": " + way->from;
+    if (const auto* w = plan.wrapOf(p)) {
+      std::string names;
+      for (std::size_t k = 0; k < w->wraps.size(); ++k)
+        names += (k == 0 ? "" : k + 1 == w->wraps.size() ? " and " : ", ") + a.parts[w->wraps[k]].name;
+      home = "wraps " + names + ": flexible, fitted by hand after them";
+    }
+    if (const auto* sub = plan.subAssemblyOf(p)) {
+      // A sub-assembly's parts are put together on the bench, then come home with its first.
+      if (p == sub->parts.front()) home += ", carrying " + std::to_string(sub->parts.size() - 1) + " parts as one sub-assembly";
+      else home = "put on " + a.parts[sub->parts.front()].name + " beforehand";
+    }
     for (const auto& e : plan.precedence)
       if (e.after == p)
         after += (after.empty() ? "" : ", ") + a.parts[e.before].name + (e.reason == eval::Precedence::Reason::Partner ? " (partner)" : " (whose way it blocks)");

@@ -11,6 +11,7 @@
 
 #include "bundled.hpp"
 #include "vaw/collision/interference.hpp"
+#include "vaw/evaluation/sequence.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace {
@@ -85,6 +86,40 @@ TEST(CadExports, Fusion360ArmOpensNamedWithItsServosAsUnits) {
   EXPECT_TRUE(a->findPart("moving side:1").has_value());
   const auto units = std::count_if(a->parts.begin(), a->parts.end(), [](const vaw::Part& p) { return !p.unitMembers.empty(); });
   EXPECT_EQ(units, 6) << "the Dynamixel servos";
+}
+
+// Every part placed by some order: the rotary table's table with what it carries lowered onto its shaft as
+// one sub-assembly, its pinion through the internal gear it is drawn into (a clash, noted).
+TEST(CadExports, SolidWorksRotaryTableGoesTogether) {
+  LOAD_OR_SKIP(a, "Drehtisch.STEP");
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(*a);
+  EXPECT_TRUE(plan.complete()) << plan.stuck.size() << " stuck";
+  EXPECT_FALSE(plan.subAssemblies.empty());
+  const auto table = *a->findPart("Tischneu");
+  const auto* sub = plan.subAssemblyOf(table);
+  ASSERT_NE(sub, nullptr) << "the table comes home carrying what is fastened to it";
+  EXPECT_GE(sub->parts.size(), 3u);
+}
+
+TEST(CadExports, Fusion360ArmGoesTogether) {
+  LOAD_OR_SKIP(a, "arm.step");
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(*a);
+  EXPECT_TRUE(plan.complete()) << plan.stuck.size() << " stuck";
+}
+
+// The belt round both pulleys can be placed by no rigid motion: it is fitted by hand, last, and is no failure.
+TEST(CadExports, CatiaBeltDriveWrapsItsBeltLast) {
+  LOAD_OR_SKIP(a, "Product1.stp");
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(*a);
+  EXPECT_TRUE(plan.complete());
+  const auto belt = *a->findPart("Belt.1");
+  EXPECT_EQ(plan.order.back(), belt);
+  const auto* wrap = plan.wrapOf(belt);
+  ASSERT_NE(wrap, nullptr);
+  std::vector<std::string> names;
+  for (const auto p : wrap->wraps) names.push_back(a->parts[p].name);
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"Driven Pulley.1", "Driving Pulley.1"}));
 }
 
 TEST(CadExports, ProEngineerAs1NamedAsItsProducts) {

@@ -67,13 +67,13 @@ struct WorldObject {
 
   [[nodiscard]] Eigen::Isometry3d fclPose(const Eigen::Isometry3d& p) const { return p * geometryOffset; }
   // How far a triangle may lie inside the true surface: a cylinder's facets by its sagitta; a facet of any
-  // other curved face (a cone's, a fillet's: a planar patch of one or two triangles) by the tessellation's
-  // chordal deflection, so that two such faces in contact (a screw's head in its countersink) only touch.
+  // other curved CAD face (a cone's, a fillet's) by the tessellation's chordal deflection, so that two such
+  // faces in contact (a screw's head in its countersink) only touch.
   [[nodiscard]] double sagitta(int tri) const {
-    const int c = patches->cylinderOf.empty() ? -1 : patches->cylinderOf[static_cast<std::size_t>(tri)];
+    const auto t = static_cast<std::size_t>(tri);
+    const int c = patches->cylinderOf.empty() ? -1 : patches->cylinderOf[t];
     if (c >= 0) return patches->cylinders[static_cast<std::size_t>(c)].sagitta;
-    const int p = patches->planeOf.empty() ? -1 : patches->planeOf[static_cast<std::size_t>(tri)];
-    return p >= 0 && patches->planes[static_cast<std::size_t>(p)].triangles.size() <= 2 ? deflection : 0.0;
+    return t < patches->curved.size() && patches->curved[t] ? deflection : 0.0;
   }
 };
 

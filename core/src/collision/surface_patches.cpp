@@ -505,6 +505,12 @@ SurfacePatches classifySurfaces(const TriMesh& mesh, const CadSolid* cad, const 
   // The solid's own faces when the mesh is its tessellation (same triangles, same order).
   if (cad && cad->mesh.triangles.size() != n) cad = nullptr;
   findCylinders(topo, out, cad);
+  if (cad) {
+    out.curved.assign(n, 0);
+    for (const CadFace& f : cad->faces)
+      if (f.surface == CadFace::Surface::Other)
+        for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < n; ++t) out.curved[t] = 1;
+  }
   return out;
 }
 

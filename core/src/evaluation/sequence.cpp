@@ -21,6 +21,23 @@ namespace {
 
 using collision::ObjectId;
 
+// A part held within this of home in every way by what it wraps (m).
+constexpr double kWrapReach = 1e-3;
+
+// A closed surface with a hole through it (genus one or more: a belt, a ring, a spring), from its Euler
+// characteristic V - E + F = 2 - 2 g per connected piece, on the welded mesh.
+bool ring(const TriMesh& mesh) {
+  std::set<std::pair<int, int>> edges;
+  std::set<int> used;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) {
+      edges.emplace(std::min(t[k], t[(k + 1) % 3]), std::max(t[k], t[(k + 1) % 3]));
+      used.insert(t[k]);
+    }
+  const auto chi = static_cast<long>(used.size()) - static_cast<long>(edges.size()) + static_cast<long>(mesh.triangles.size());
+  return chi <= 0;
+}
+
 std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vector<Eigen::Isometry3d>& home) {
   std::vector<Direction> dirs;
   auto add = [&](Eigen::Vector3d out, std::string from, std::optional<std::size_t> constraint, bool axis) {
@@ -242,6 +259,19 @@ const Direction* SequencePlan::wayOf(PartId p) const {
   return c && k >= 0 ? &c->directions[static_cast<std::size_t>(k)] : nullptr;
 }
 
+const SequencePlan::Wrap* SequencePlan::wrapOf(PartId p) const {
+  for (const Wrap& w : wraps)
+    if (w.part == p) return &w;
+  return nullptr;
+}
+
+const SequencePlan::SubAssembly* SequencePlan::subAssemblyOf(PartId p) const {
+  const auto it = std::find(order.begin(), order.end(), p);
+  if (it == order.end()) return nullptr;
+  const std::size_t i = static_cast<std::size_t>(it - order.begin());
+  return i < subAssembly.size() && subAssembly[i] >= 0 ? &subAssemblies[static_cast<std::size_t>(subAssembly[i])] : nullptr;
+}
+
 std::pair<double, double> extentAlong(const Eigen::AlignedBox3d& box, const Eigen::Vector3d& direction) {
   const double c = box.center().dot(direction);
   const double r = (0.5 * box.sizes()).dot(direction.cwiseAbs());
@@ -351,9 +381,85 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     PartId part;
     int way;
     int round;
+    int group = -1;  // index into plan.subAssemblies
   };
   std::vector<Out> removed;
   std::vector<bool> stuck(n, false);
+  // The smallest set of parts still in that comes out along one of a part's ways: the part, what it meets on
+  // the way, what those meet, and so on, and every part constrained to one of them; none when the base is
+  // among them. Returned in the order the set is put together (its first the part whose way it is, with that
+  // way's index; the others -1), found by the same disassembly within the set.
+  const auto subAssemblyOut = [&]() -> std::vector<std::pair<PartId, int>> {
+    std::vector<PartId> best;
+    std::size_t bestWay = 0;
+    for (const PartCheck& c : plan.checks) {
+      if (!in[c.part]) continue;
+      for (std::size_t k = 0; k < c.directions.size(); ++k) {
+        const Eigen::Vector3d& out = c.directions[k].out;
+        std::vector<PartId> group{c.part};
+        std::vector<bool> member(n, false);
+        member[c.part] = true;
+        bool ok = true;
+        for (std::size_t i = 0; i < group.size() && ok; ++i) {
+          const PartId m = group[i];
+          const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(m));
+          const double length = extentAlong(all, out).second - extentAlong(box, out).first + 2.0 * options.tolerance;
+          Eigen::AlignedBox3d swept = box;
+          swept.extend(box.min() + length * out).extend(box.max() + length * out);
+          const auto join = [&](PartId o) {
+            if (member[o]) return;
+            member[o] = true;
+            group.push_back(o);
+          };
+          for (const ObjectId& o : world.near(swept, ObjectId::part(m))) {
+            if (o.kind != ObjectId::Kind::Part || !in[o.index] || member[o.index]) continue;
+            // Along an axis: a bearing carried up its bore slides on it (touching faces across the way are
+            // dropped either way).
+            const auto b = sweep.block(m, o.index, out, true, length);
+            if (!b || (options.throughClashes && !b->undecided && b->distance <= options.tolerance && clash(m, o.index))) continue;
+            if (o.index == base || stuck[o.index]) ok = false;
+            else join(o.index);
+          }
+          // A part still in whose partner leaves with the set would be left waiting for it: it comes too.
+          for (PartId r = 0; r < n && ok; ++r)
+            if (in[r] && !member[r] && partners[r].count(m)) join(r);
+          ok = ok && (best.empty() || group.size() < best.size());
+        }
+        if (ok && group.size() >= 2) {
+          best = group;
+          bestWay = k;
+        }
+      }
+    }
+    if (best.empty()) return {};
+    // Put together on the bench: the set's own disassembly, reversed, from its first part.
+    std::vector<std::pair<PartId, int>> order{{best.front(), static_cast<int>(bestWay)}};
+    std::vector<bool> inSet(n, false);
+    for (const PartId p : best) inSet[p] = true;
+    std::vector<PartId> out;
+    for (bool moved = true; moved;) {
+      moved = false;
+      for (const PartId p : best) {
+        if (p == best.front() || !inSet[p]) continue;
+        const PartCheck* c = plan.checkOf(p);
+        const bool heldInSet = std::any_of(best.begin(), best.end(), [&](PartId r) { return r != p && inSet[r] && partners[r].count(p); });
+        const bool free = c && std::any_of(c->directions.begin(), c->directions.end(), [&](const Direction& d) {
+          return std::none_of(d.blockers.begin(), d.blockers.end(), [&](const Blocker& b) { return inSet[b.by]; });
+        });
+        if (!heldInSet && free) {
+          inSet[p] = false;
+          out.push_back(p);
+          moved = true;
+        }
+      }
+    }
+    // What the set's own disassembly left in (held among themselves) goes after its first part as found.
+    for (const PartId p : best)
+      if (p != best.front() && inSet[p]) out.push_back(p);
+    // Reversed: the disassembly's last out is the first put on the set's first part.
+    for (auto it = out.rbegin(); it != out.rend(); ++it) order.emplace_back(*it, -1);
+    return order;
+  };
   for (int round = 0;; ++round) {
     std::vector<Out> now;
     for (const PartCheck& c : plan.checks) {
@@ -363,6 +469,16 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     if (!now.empty()) {
       for (const Out& o : now) in[o.part] = false;
       removed.insert(removed.end(), now.begin(), now.end());
+      continue;
+    }
+    // Nothing comes out alone: a sub-assembly may, the parts that only block each other along one way.
+    if (auto group = subAssemblyOut(); !group.empty()) {
+      const int index = static_cast<int>(plan.subAssemblies.size());
+      plan.subAssemblies.push_back({{}, plan.checkOf(group.front().first)->directions[static_cast<std::size_t>(group.front().second)].out});
+      for (const auto& [part, way] : group) {
+        in[part] = false;
+        removed.push_back({part, way, round, index});
+      }
       continue;
     }
     // Nothing comes out. First the parts that something always there (the base, or a part already set
@@ -418,9 +534,32 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
     }
   }
 
+  // Rings held in every way by what passes through them wrap it: fitted by hand after it, last.
+  for (auto it = plan.stuck.begin(); it != plan.stuck.end();) {
+    const PartId p = it->part;
+    std::vector<PartId> wrapped;
+    const PartCheck* c = plan.checkOf(p);
+    if (it->waitsFor.empty() && c && ring(*assembly.parts[p].mesh))
+      for (const Direction& d : c->directions)
+        for (const Blocker& b : d.blockers)
+          if (b.distance <= kWrapReach && b.by != p && std::find(wrapped.begin(), wrapped.end(), b.by) == wrapped.end()) wrapped.push_back(b.by);
+    const bool heldInEveryWay = c && std::all_of(c->directions.begin(), c->directions.end(), [&](const Direction& d) {
+      return std::any_of(d.blockers.begin(), d.blockers.end(), [&](const Blocker& b) { return b.distance <= kWrapReach; });
+    });
+    if (wrapped.empty() || !heldInEveryWay) {
+      ++it;
+      continue;
+    }
+    std::sort(wrapped.begin(), wrapped.end());
+    plan.wraps.push_back({p, wrapped});
+    stuck[p] = false;
+    it = plan.stuck.erase(it);
+  }
+
   plan.order.push_back(base);
   plan.way.push_back(-1);
   plan.step.push_back(0);
+  plan.subAssembly.push_back(-1);
   const int rounds = removed.empty() ? 0 : removed.back().round + 1;
   for (int r = rounds - 1; r >= 0; --r)
     for (const Out& o : removed)
@@ -428,7 +567,16 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
         plan.order.push_back(o.part);
         plan.way.push_back(o.way);
         plan.step.push_back(rounds - r);
+        plan.subAssembly.push_back(o.group);
+        if (o.group >= 0) plan.subAssemblies[static_cast<std::size_t>(o.group)].parts.push_back(o.part);
       }
+
+  for (const SequencePlan::Wrap& w : plan.wraps) {
+    plan.order.push_back(w.part);
+    plan.way.push_back(-1);
+    plan.step.push_back(rounds + 1);
+    plan.subAssembly.push_back(-1);
+  }
 
   // What the order found rests on.
   auto addPrecedence = [&](PartId before, PartId after, Precedence::Reason why) {
@@ -436,12 +584,16 @@ SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& optio
       if (e.before == before && e.after == after && e.reason == why) return;
     plan.precedence.push_back({before, after, why});
   };
+  for (const SequencePlan::Wrap& w : plan.wraps)
+    for (const PartId r : w.wraps)
+      if (r != base) addPrecedence(r, w.part, Precedence::Reason::Blocks);
   for (std::size_t i = 1; i < plan.order.size(); ++i) {
     const PartId p = plan.order[i];
     for (const PartId r : partners[p])
       if (r != base) addPrecedence(r, p, Precedence::Reason::Partner);
-    for (const Blocker& b : plan.wayOf(p)->blockers)
-      if (b.by != base && !stuck[b.by]) addPrecedence(p, b.by, Precedence::Reason::Blocks);
+    if (const Direction* w = plan.wayOf(p))
+      for (const Blocker& b : w->blockers)
+        if (b.by != base && !stuck[b.by]) addPrecedence(p, b.by, Precedence::Reason::Blocks);
   }
   if (progress && !progress(1.0, "done")) throw LoadCancelled();
   return plan;

@@ -71,6 +71,9 @@ struct SurfacePatches {
   std::vector<CylindricalPatch> cylinders;
   std::vector<int> planeOf;               // per triangle: its planar patch, -1 for a degenerate or invalid one
   std::vector<int> cylinderOf;            // per triangle: its cylindrical patch or -1
+  // Per triangle: a facet of a CAD face that is neither a plane nor a cylinder (a cone, a torus, a free-form
+  // face), which lies up to the tessellation's deflection inside the true surface; empty without CAD faces.
+  std::vector<char> curved;
   std::vector<Eigen::Vector3d> normals;   // per triangle, unit (zero for a degenerate one)
   // Per triangle, bit k set: its edge from corner k to corner k+1 lies on its planar patch's outline (the
   // other edges are inside a flat face and do not end it).

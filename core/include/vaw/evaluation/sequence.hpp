@@ -68,13 +68,33 @@ struct SequencePlan {
   std::vector<Precedence> precedence;   // what the order found must respect, one entry per pair and reason
   std::vector<Stuck> stuck;             // no order inserts these
   std::vector<PartId> skipped;          // parts without a final pose: not in the sequence
+  // Parts that come home together, put together beforehand as a sub-assembly (the table of a rotary table
+  // with all it carries, lowered onto its shaft): each its parts in the order they are put together, the
+  // first the one whose way the whole comes home by (its `way` in the order); the others' way entries are -1.
+  struct SubAssembly {
+    std::vector<PartId> parts;
+    Eigen::Vector3d out = Eigen::Vector3d::UnitZ();  // world: the whole comes in along -out
+  };
+  std::vector<SubAssembly> subAssemblies;
+  std::vector<int> subAssembly;         // per order entry: index into subAssemblies, -1 for a part on its own
+  // Parts no rigid motion puts in place because they wrap others (a belt round two pulleys, a spring, a hose:
+  // a ring held in every way by what passes through it): flexible, fitted by hand after what they wrap, last
+  // in the order (their way entries -1), not among the stuck.
+  struct Wrap {
+    PartId part = 0;
+    std::vector<PartId> wraps;
+  };
+  std::vector<Wrap> wraps;
+  [[nodiscard]] const Wrap* wrapOf(PartId p) const;
   int sweeps = 0;                       // pair sweeps run
   int reused = 0;                       // pair sweeps answered by an earlier one of the same shapes, placed alike
   int undecided = 0;                    // of them, those that ran out of their iteration limit
   int evaluations = 0;                  // distance and blocked checks in them
   [[nodiscard]] bool complete() const { return stuck.empty(); }
-  // The direction a part in the order came home by, or nullptr.
+  // The direction a part in the order came home by, or nullptr (the base; a sub-assembly's parts but its first).
   [[nodiscard]] const Direction* wayOf(PartId p) const;
+  // The sub-assembly a part came home in, or nullptr.
+  [[nodiscard]] const SubAssembly* subAssemblyOf(PartId p) const;
   [[nodiscard]] const PartCheck* checkOf(PartId p) const;
 };
 
