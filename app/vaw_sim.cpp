@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <chrono>
 #include <cmath>
 #include <csignal>
 #include <cstdlib>
@@ -208,6 +209,7 @@ void addReaderLimits(CLI::App* cmd, vaw::ImportOptions& limits) {
 struct InspectArgs {
   std::string file;
   bool json = false;
+  bool timings = false;
   std::string categories = "default";
   std::string up;
   vaw::ImportOptions import;  // STEP files: tessellation and the reader's limits
@@ -232,6 +234,8 @@ int inspect(const InspectArgs& args) {
     }
     return true;
   };
+  std::vector<std::pair<std::string, double>> timings;
+  if (args.timings) options.timings = &timings;
   try {
     const vaw::Assembly a = vaw::loadAny(vaw::resolveScenePath(args.file), importers, options, progress);
     if (tty) std::fprintf(stderr, "\r%70s\r", "");
@@ -240,7 +244,9 @@ int inspect(const InspectArgs& args) {
     const auto fits = vaw::collision::constraintFits(a);
     // What overlaps at rest, for assemblies whose parts come with their assembled poses (CAD files).
     std::vector<vaw::collision::Interference> overlaps;
+    const auto checked = std::chrono::steady_clock::now();
     if (!a.cadFile.empty()) overlaps = vaw::collision::interferences(a, vaw::collision::assembledPoses(a));
+    if (args.timings) timings.emplace_back("interferences at rest", std::chrono::duration<double>(std::chrono::steady_clock::now() - checked).count());
     if (args.json) {
       nlohmann::json j = toJson(a, fits);
       if (!a.cadFile.empty()) j["interferences"] = interferenceJson(a, overlaps);
@@ -249,6 +255,8 @@ int inspect(const InspectArgs& args) {
       printTable(a, fits);
       if (!a.cadFile.empty()) printInterferences(a, overlaps);
     }
+    // On stderr, so that the table and the JSON stay what they are.
+    for (const auto& [stage, seconds] : timings) std::fprintf(stderr, "time: %-36s %8.3f s\n", stage.c_str(), seconds);
     return 0;
   } catch (const vaw::InputError& e) {
     if (tty) std::fprintf(stderr, "\n");
@@ -300,6 +308,7 @@ int dispatch(int argc, char** argv) {
                  "(a bore on a shaft: both radii and the clearance).");
   inspectCmd->add_option("SCENE", ins.file, "Scene, mesh file, or bundled scene name")->required();
   inspectCmd->add_flag("--json", ins.json, "Print JSON instead of a table");
+  inspectCmd->add_flag("--timings", ins.timings, "CAD files: print on stderr the seconds each stage of the open took");
   inspectCmd->add_option("--categories", ins.categories, "Lifting thresholds: default (NIOSH/HSE men) or stricter (HSE women)")
       ->check(CLI::IsMember({"default", "stricter"}));
   inspectCmd

@@ -1,6 +1,7 @@
 #include "vaw/cad_assembly.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -103,6 +104,22 @@ struct Instance {
 void checkCancel(const ProgressFn& progress, double f, const std::string& stage) {
   if (progress && !progress(std::clamp(f, 0.0, 1.0), stage)) throw LoadCancelled();
 }
+
+// Records how long each stage of an open takes, when asked (LoadOptions::timings).
+class StageClock {
+ public:
+  explicit StageClock(std::vector<std::pair<std::string, double>>* out) : out_(out), last_(std::chrono::steady_clock::now()) {}
+  // The time since the last mark is the stage `name`'s.
+  void mark(const char* name) {
+    const auto now = std::chrono::steady_clock::now();
+    if (out_) out_->emplace_back(name, std::chrono::duration<double>(now - last_).count());
+    last_ = now;
+  }
+
+ private:
+  std::vector<std::pair<std::string, double>>* out_;
+  std::chrono::steady_clock::time_point last_;
+};
 
 // The parts of a unit as the tree shows them: names, no geometry of their own.
 TreeNode unitTree(const ImportedNode& n) {
@@ -612,8 +629,10 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "a length unit the file declares",
                           *imported.declaredUnit + " (converted to metres)"});
 
+  StageClock clock(options.timings);
   // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
-  const std::map<std::string, std::string> units = detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, progress);
+  const std::map<std::string, std::string> units = detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, options.import, progress);
+  clock.mark("units");
   std::vector<Instance> instances;
   std::set<std::string> names;
   a.tree = walk(imported.root, Eigen::Isometry3d::Identity(), instances, names);
@@ -703,6 +722,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     a.parts.push_back(std::move(p));
   }
 
+  clock.mark("parts, meshes and mass properties");
   checkCancel(progress, 0.65, "recognising constraints");
   std::vector<Eigen::Isometry3d> filePoses;
   std::vector<RecognitionPart> rec;
@@ -719,6 +739,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   };
   const std::vector<FoundConstraint> found = recognizeConstraints(rec, {}, pairStage("recognising constraints", 0.65, 0.75));
 
+  clock.mark("recognising constraints");
   // The base: named, else the part the assembly stands on (docs/step.md, "The base").
   PartId base = 0;
   std::optional<Eigen::Vector3d> baseFooting;
@@ -737,6 +758,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   a.constraints = constraintsFromFound(found, a.parts, base, filePoses);
   // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
   // the pairs the geometry leaves open.
+  clock.mark("the base");
   checkCancel(progress, 0.75, "which part goes first");
   const KeptPrecedence kept(a, options.import);
   std::optional<std::vector<std::pair<PartId, PartId>>> first = kept.find(a.parts.size());
@@ -748,6 +770,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   // Parts come home along their constraints and are PLACED where they come to rest there.
   a.settings.placeAtRest = true;
 
+  clock.mark("which part goes first");
   checkCancel(progress, 0.85, "laying the parts out on the table");
   // The base stands on its most stable face (or the way the user chose) with its footprint centred at the
   // origin; the whole assembly turns with it, so every final pose keeps its place relative to the base.
@@ -811,6 +834,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   tableNode.index = 0;
   a.tree.children.push_back(std::move(tableNode));
 
+  clock.mark("layout");
   checkCancel(progress, 1.0, "done");
   return a;
 }

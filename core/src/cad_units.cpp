@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <map>
 #include <memory>
+#include <optional>
 
 #include "load_detail.hpp"
 #include "vaw/cad_assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/hash.hpp"
+#include "vaw/kept_results.hpp"
 
 namespace vaw::detail {
 
@@ -35,16 +38,20 @@ void collectMembers(const ImportedNode& n, const Eigen::Isometry3d& at, std::vec
   }
 }
 
-// Identical sub-assemblies (every instance of one product) have the same parts placed alike: decided once.
+// Identical sub-assemblies (every instance of one product, and the copies some exporters write of it as
+// products of their own) have the same parts placed alike: decided once. A part by its shape's measures.
 std::string signature(const std::vector<Member>& members) {
   std::string key;
   for (const Member& m : members) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%p", static_cast<const void*>(m.solid.get()));
+    char text[160];
+    const CadSolid& s = *m.solid;
+    std::snprintf(text, sizeof text, "%.9g,%.9g,%.9g,%.9g,%zu,%zu", s.volume, s.centroid.x(), s.centroid.y(), s.centroid.z(), s.faces.size(),
+                  s.mesh.triangles.size());
     key += text;
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 4; ++c) {
-        std::snprintf(text, sizeof text, ",%.9f", m.location.matrix()(r, c));
+        const double v = m.location.matrix()(r, c);
+        std::snprintf(text, sizeof text, ",%.9f", std::abs(v) < 5e-10 ? 0.0 : v);  // no "-0.000000000"
         key += text;
       }
     key += ";";
@@ -86,8 +93,8 @@ std::string trapped(const std::vector<Member>& members) {
   // What can trap a part, looked for before the order search (seconds for a sub-assembly of thirty parts):
   // two parts that share volume beyond a designed fit (a rotor modelled through its housing, screws in a
   // dummy without holes), or a part in no constraint with the others held wherever it moves (a ball).
+  const collision::CollisionWorld world(a);
   {
-    collision::CollisionWorld world(a);
     collision::QueryOptions clash;
     clash.dropTouching = true;
     clash.skipDesigned = true;
@@ -115,7 +122,7 @@ std::string trapped(const std::vector<Member>& members) {
   }
   eval::SequenceOptions strict;
   strict.throughClashes = false;
-  const eval::SequencePlan plan = eval::planSequence(a, strict);
+  const eval::SequencePlan plan = eval::planSequence(a, world, strict);
   if (plan.complete()) return {};
   // Trapped: held at once, in every way it has, by the others (a ball between its races, a rotor modelled
   // through its housing). A part that could move a little before it meets another (a bracket on a rod
@@ -186,8 +193,29 @@ struct Joiner {
   const std::set<std::string>& split;
   const std::set<std::string>& join;
   const ProgressFn& progress;
+  // Whether a sub-assembly comes apart takes a second of sweeps for a thirty-part servo: kept between
+  // sessions like the reader's results, under the signature and vaw's build (docs/step.md, "Reopening a file").
+  std::optional<KeptResults> kept;
   std::map<std::string, std::pair<std::shared_ptr<const CadSolid>, std::string>> decided;  // by signature
   std::map<std::string, std::string> units;
+
+  std::string decide(const std::vector<Member>& members, const std::string& key) {
+    const std::string file = hashText(fnv1a(key, buildIdentity(reinterpret_cast<const void*>(&joinUnits))));
+    if (kept)
+      if (const auto data = kept->find(file); data && !data->empty() && (*data)[0] == 'U')
+        return std::string(data->begin() + 1, data->end());
+    const std::string why = trapped(members);
+    if (kept) {
+      std::vector<std::uint8_t> data{'U'};
+      data.insert(data.end(), why.begin(), why.end());
+      try {
+        kept->store(file, data);
+      } catch (const OutputError&) {
+        // A folder that cannot be written only costs the next open its sweeps.
+      }
+    }
+    return why;
+  }
 
   void visit(ImportedNode& n, bool root) {
     for (ImportedNode& c : n.children)
@@ -200,7 +228,7 @@ struct Joiner {
     auto it = decided.find(key);
     if (it == decided.end()) {
       if (progress && !progress(0.0, "units: " + n.name)) throw LoadCancelled();
-      const std::string why = join.count(n.name) ? std::string("joined as one unit") : trapped(members);
+      const std::string why = join.count(n.name) ? std::string("joined as one unit") : decide(members, key);
       it = decided.emplace(key, std::pair{why.empty() ? nullptr : unitSolid(members, n.name), why}).first;
     }
     if (!it->second.first) return;
@@ -212,8 +240,8 @@ struct Joiner {
 }  // namespace
 
 std::map<std::string, std::string> joinUnits(ImportedNode& root, const std::set<std::string>& split, const std::set<std::string>& join,
-                                             const ProgressFn& progress) {
-  Joiner j{split, join, progress, {}, {}};
+                                             const ImportOptions& import, const ProgressFn& progress) {
+  Joiner j{split, join, progress, KeptResults::under(import.resultCache, import.resultCacheMB, "units"), {}, {}};
   j.visit(root, true);
   return std::move(j.units);
 }

@@ -14,7 +14,8 @@ namespace vaw::detail {
 // that `split` does not name, by one instance of a solid holding its parts' (shared by every instance of
 // the same sub-assembly); the instance keeps its parts as children, for their names. Returns, per unit's
 // name, why it is one.
+// `import`: where the decisions are kept between sessions (ImportOptions::resultCache).
 std::map<std::string, std::string> joinUnits(ImportedNode& root, const std::set<std::string>& split, const std::set<std::string>& join,
-                                             const ProgressFn& progress = {});
+                                             const ImportOptions& import, const ProgressFn& progress = {});
 
 }  // namespace vaw::detail

@@ -3,6 +3,7 @@
 #include "mesh_import.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cctype>
 
 #include "load_detail.hpp"
@@ -123,7 +124,9 @@ Assembly loadMeshFile(const std::filesystem::path& file, const ImporterRegistry&
   const MeshImporter* importer = importers.find(file);
   if (!importer) fail(file.string(), "", "a mesh format an importer plugin reads", "\"" + file.extension().string() + "\"");
   detail::checkMeshFileSize(file, std::nullopt);
+  const auto started = std::chrono::steady_clock::now();
   ImportedMesh im = importer->read(file, options.import, progress.sub(0.0, 0.6));
+  if (options.timings) options.timings->emplace_back("reading the file", std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   if (im.isCad()) return assemblyFromCad(std::move(im), file, options, progress.sub(0.6, 1.0));
   for (const auto& w : im.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, file.string(), "", "", w});
 

@@ -5,6 +5,8 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "vaw/assembly.hpp"
 #include "vaw/importer.hpp"
@@ -28,6 +30,9 @@ struct LoadOptions {
   // CAD sub-assemblies, by their instance names: handled as parts although they form a unit, and handled as
   // one unit although they come apart (docs/step.md, "Units").
   std::set<std::string> cadSplit, cadJoin;
+  // Where a CAD file's open spends its time, stage by stage (seconds), when given: the reader, units,
+  // parts and meshes, recognition, the base, who goes first, the layout (vaw-sim inspect --timings).
+  std::vector<std::pair<std::string, double>>* timings = nullptr;
 };
 
 // Version 2 adds "tools", version 3 "cad" and constraints between parts ("partner"); earlier files still load.

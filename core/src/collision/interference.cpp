@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <map>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <optional>
@@ -93,21 +95,50 @@ struct Lines {
 // through a vertex or along an edge would count one crossing twice.
 constexpr double kOffU = 0.5 + 0.0618034, kOffV = 0.5 + 0.0414214;
 
+// A solid's triangles filed by the lines (of an n x n grid across axis k over the box) their shadows reach,
+// so that each line is cut with the few triangles over it, not with all of them.
+struct Filed {
+  Solid solid;
+  std::vector<std::vector<std::uint32_t>> byLine;
+};
+
+Filed file(const Solid& all, const Eigen::AlignedBox3d& box, int k, int n, double du, double dv) {
+  const int u = (k + 1) % 3, v = (k + 2) % 3;
+  Filed f{alongAxis(all, box, k), std::vector<std::vector<std::uint32_t>>(static_cast<std::size_t>(n * n))};
+  const auto cell = [&](double x, double lo, double d) { return std::clamp(static_cast<int>(std::floor((x - lo) / d - kOffU + 0.5)), 0, n - 1); };
+  for (std::size_t t = 0; t < f.solid.boxes.size(); ++t) {
+    const Eigen::AlignedBox3d& b = f.solid.boxes[t];
+    const int i0 = cell(b.min()[u], box.min()[u], du) - 1, i1 = cell(b.max()[u], box.min()[u], du) + 1;
+    const int j0 = cell(b.min()[v], box.min()[v], dv) - 1, j1 = cell(b.max()[v], box.min()[v], dv) + 1;
+    for (int i = std::max(i0, 0); i <= std::min(i1, n - 1); ++i)
+      for (int j = std::max(j0, 0); j <= std::min(j1, n - 1); ++j) f.byLine[static_cast<std::size_t>(i * n + j)].push_back(static_cast<std::uint32_t>(t));
+  }
+  return f;
+}
+
+// Crossings of the line through `p` along axis `k` with the triangles filed by that line, sorted.
+std::vector<double> crossings(const Filed& f, std::size_t line, const Eigen::Vector3d& p, int k) {
+  Solid few;
+  for (const std::uint32_t t : f.byLine[line]) few.triangles.push_back(f.solid.triangles[t]);
+  return crossings(few, p, k);
+}
+
 Lines overlapAlong(const Solid& allA, const Solid& allB, const Eigen::AlignedBox3d& box, int k, int n) {
   const int u = (k + 1) % 3, v = (k + 2) % 3;
-  const Solid a = alongAxis(allA, box, k), b = alongAxis(allB, box, k);
   Lines o;
   o.k = k;
   o.n = n;
   o.du = box.sizes()[u] / n;
   o.dv = box.sizes()[v] / n;
+  const Filed a = file(allA, box, k, n, o.du, o.dv), b = file(allB, box, k, n, o.du, o.dv);
   o.stretches.resize(static_cast<std::size_t>(n * n));
   for (int i = 0; i < n; ++i)
     for (int j = 0; j < n; ++j) {
       Eigen::Vector3d p = box.min();
       p[u] += (i + kOffU) * o.du;
       p[v] += (j + kOffV) * o.dv;
-      const std::vector<double> ca = crossings(a, p, k), cb = crossings(b, p, k);
+      const auto line = static_cast<std::size_t>(i * n + j);
+      const std::vector<double> ca = crossings(a, line, p, k), cb = crossings(b, line, p, k);
       for (std::size_t x = 0; x + 1 < ca.size(); x += 2)
         for (std::size_t y = 0; y + 1 < cb.size(); y += 2) {
           const double lo = std::max({ca[x], cb[y], box.min()[k]}), hi = std::min({ca[x + 1], cb[y + 1], box.max()[k]});
@@ -136,9 +167,7 @@ double stretchThrough(const Lines& lines, const Eigen::AlignedBox3d& box, const 
 // mix their errors); the depth as the overlap's thickness, the largest over points inside both of the
 // shortest of the three stretches through the point (a dowel 0.3 mm too large in its hole: 0.3 mm, whatever
 // its length); the direction, the axis along which that thickness is measured.
-void measureClash(Interference& r, const TriMesh& ma, const Eigen::Isometry3d& pa, const TriMesh& mb, const Eigen::Isometry3d& pb,
-                  const Eigen::AlignedBox3d& common) {
-  const Solid a = worldSolid(ma, pa), b = worldSolid(mb, pb);
+void measureClash(Interference& r, const Solid& a, const Solid& b, const Eigen::AlignedBox3d& common) {
   constexpr int kLines = 48;
   std::array<Lines, 3> lines;
   for (int k = 0; k < 3; ++k) lines[static_cast<std::size_t>(k)] = overlapAlong(a, b, common, k, kLines);
@@ -173,7 +202,11 @@ void measureClash(Interference& r, const TriMesh& ma, const Eigen::Isometry3d& p
 
 }  // namespace
 
-std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Assembly& assembly, PartId p, PartId q) {
+struct OverlapCache {
+  std::map<PartId, Solid> solids;
+};
+
+std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Assembly& assembly, PartId p, PartId q, OverlapCache* cache) {
   if (p > q) std::swap(p, q);
   // The designed fit between the two (a screw may hold both a thread and a head's seat in one part).
   const Constraint* designed = nullptr;
@@ -195,7 +228,12 @@ std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Ass
   deep.skipDesigned = true;
   if (!world.query(a, b, deep).contacts.empty()) {
     const Eigen::AlignedBox3d common = world.worldBounds(a).intersection(world.worldBounds(b));
-    measureClash(r, *assembly.parts[p].mesh, world.pose(a), *assembly.parts[q].mesh, world.pose(b), common);
+    // A part in many clashes (a plate its bolts stand in) is taken into the world once.
+    std::map<PartId, Solid> own;
+    std::map<PartId, Solid>& solids = cache ? cache->solids : own;
+    for (const PartId x : {p, q})
+      if (!solids.count(x)) solids.emplace(x, worldSolid(*assembly.parts[x].mesh, world.pose(ObjectId::part(x))));
+    measureClash(r, solids.at(p), solids.at(q), common);
     // No deeper than the two tessellations may lie inside their true surfaces (a head in its countersink,
     // facets of two tessellations of one surface) it cannot be told from touching.
     const double tol = world.tolerances().distance;
@@ -255,10 +293,11 @@ std::vector<Interference> interferences(const Assembly& assembly, const std::vec
     }
   std::sort(pairs.begin(), pairs.end());
   pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  OverlapCache cache;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [p, q] = pairs[k];
     if (progress && !progress(static_cast<double>(k) / static_cast<double>(pairs.size()), p, q)) throw LoadCancelled();
-    if (auto r = overlapAtRest(world, assembly, p, q)) out.push_back(std::move(*r));
+    if (auto r = overlapAtRest(world, assembly, p, q, &cache)) out.push_back(std::move(*r));
   }
   std::stable_sort(out.begin(), out.end(), [](const Interference& x, const Interference& y) {
     const auto rank = [](Interference::Kind k) {

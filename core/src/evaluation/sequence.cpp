@@ -289,22 +289,26 @@ std::vector<Eigen::Isometry3d> homePoses(const Assembly& assembly) {
 
 SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& options, const ProgressFn& progress) {
   if (!assembly.base) fail(assembly.source.string(), "base", "an assembly with a base part (the sequence starts from it)", "none");
+  // The assembly put together: every part at its final pose (the base where it stands).
+  Assembly together = assembly;
+  const std::vector<Eigen::Isometry3d> home = homePoses(assembly);
+  for (PartId p = 0; p < assembly.parts.size(); ++p) together.parts[p].pose = home[p];
+  return planSequence(assembly, collision::CollisionWorld(together), options, progress);
+}
+
+SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWorld& world, const SequenceOptions& options,
+                          const ProgressFn& progress) {
+  if (!assembly.base) fail(assembly.source.string(), "base", "an assembly with a base part (the sequence starts from it)", "none");
   SequencePlan plan;
   plan.base = assembly.base;
   const PartId base = *assembly.base;
   const std::size_t n = assembly.parts.size();
-
-  // The assembly put together: every part at its final pose (the base where it stands).
-  Assembly together = assembly;
   const std::vector<Eigen::Isometry3d> home = homePoses(assembly);
   std::vector<bool> inSequence(n, false);
   for (PartId p = 0; p < n; ++p) {
-    const Part& part = assembly.parts[p];
-    together.parts[p].pose = home[p];
-    inSequence[p] = p == base || part.finalPose.has_value();
+    inSequence[p] = p == base || assembly.parts[p].finalPose.has_value();
     if (!inSequence[p]) plan.skipped.push_back(p);
   }
-  const collision::CollisionWorld world(together);
   Eigen::AlignedBox3d all;
   for (PartId p = 0; p < n; ++p)
     if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));

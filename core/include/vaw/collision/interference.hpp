@@ -39,7 +39,9 @@ std::vector<Interference> interferences(const Assembly& assembly, const std::vec
 // One pair as `world` holds them (the parts at their assembled poses): what the two share, or none when
 // they do not meet.
 class CollisionWorld;
-std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Assembly& assembly, PartId p, PartId q);
+struct OverlapCache;  // what a run over many pairs keeps between them (the parts taken into the world)
+std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Assembly& assembly, PartId p, PartId q,
+                                          OverlapCache* cache = nullptr);
 
 // The assembled poses: each part's final pose, the base's own.
 std::vector<Eigen::Isometry3d> assembledPoses(const Assembly& assembly);

@@ -15,6 +15,10 @@
 #include "vaw/assembly.hpp"
 #include "vaw/importer.hpp"
 
+namespace vaw::collision {
+class CollisionWorld;
+}
+
 namespace vaw::eval {
 
 struct Blocker {
@@ -135,5 +139,9 @@ std::vector<Eigen::Isometry3d> homePoses(const Assembly& assembly);
 // Throws vaw::Error when the assembly has no base. `progress` (may be empty) is asked between parts;
 // returning false stops with LoadCancelled.
 SequencePlan planSequence(const Assembly& assembly, const SequenceOptions& options = {}, const ProgressFn& progress = {});
+// The same in a collision world built from the assembly with every part at its home pose (homePoses), for a
+// caller that has one.
+SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWorld& atHome, const SequenceOptions& options = {},
+                          const ProgressFn& progress = {});
 
 }  // namespace vaw::eval
