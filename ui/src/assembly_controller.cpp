@@ -129,6 +129,14 @@ void AssemblyController::openWithUp(const QString& path, const std::string& up) 
   open(path);
 }
 
+void AssemblyController::openWithUnit(const QString& path, const std::string& name, bool asOne) {
+  const QString absolute = QFileInfo(path).absoluteFilePath();
+  if (!chosenUnits_ || chosenUnits_->path != absolute) chosenUnits_ = ChosenUnits{absolute, {}, {}};
+  (asOne ? chosenUnits_->join : chosenUnits_->split).insert(name);
+  (asOne ? chosenUnits_->split : chosenUnits_->join).erase(name);
+  open(path);
+}
+
 bool AssemblyController::setConstraints(std::vector<vaw::Constraint> constraints, const vaw::sim::World* keepTuningOf,
                                         QString* why) {
   if (!scene_) return false;
@@ -176,6 +184,12 @@ void AssemblyController::start(const QString& path) {
   else chosenBase_.reset();
   if (chosenUp_ && chosenUp_->path == QFileInfo(path).absoluteFilePath()) options.cadUp = chosenUp_->base;
   else chosenUp_.reset();
+  if (chosenUnits_ && chosenUnits_->path == QFileInfo(path).absoluteFilePath()) {
+    options.cadSplit = chosenUnits_->split;
+    options.cadJoin = chosenUnits_->join;
+  } else {
+    chosenUnits_.reset();
+  }
   watcher_.setFuture(QtConcurrent::run([this, path, loader = loader_, options, cancel] {
     return runLoad(path, loader, options, cancel);
   }));

@@ -594,6 +594,21 @@ void ConstraintsDock::addFromFaces(vaw::PartId partA, std::size_t faceA, vaw::Pa
     tell(tr("Added \"%1\", accepted.").arg(name));
 }
 
+namespace {
+
+// The name of the sub-assembly (a group of the file's tree below its root) that holds `part`, if any.
+std::optional<std::string> subAssemblyOf(const vaw::TreeNode& node, vaw::PartId part, bool root = true) {
+  for (const vaw::TreeNode& c : node.children) {
+    if (c.kind == vaw::TreeNode::Kind::Part && c.index == part)
+      return !root && node.kind == vaw::TreeNode::Kind::Group ? std::optional(node.name) : std::nullopt;
+    if (c.kind == vaw::TreeNode::Kind::Group)
+      if (auto found = subAssemblyOf(c, part, false)) return found;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 QMenu* ConstraintsDock::baseMenu(vaw::PartId part, QWidget* parent) {
   auto* menu = new QMenu(parent);
   menu->setObjectName(QStringLiteral("sceneTreeMenu"));
@@ -621,6 +636,21 @@ QMenu* ConstraintsDock::baseMenu(vaw::PartId part, QWidget* parent) {
   makeBase->setToolTip(tip);
   makeBase->setStatusTip(tip);
   connect(makeBase, &QAction::triggered, this, [this, name] { emit baseRequested(name); });
+  // Units (docs/step.md, "Units"): a unit taken apart; a part of a sub-assembly joins it as one.
+  if (!a->cadFile.empty()) {
+    const vaw::Part& p = a->parts[part];
+    if (!p.unitMembers.empty()) {
+      QAction* apart = menu->addAction(tr("Handle as parts"));
+      apart->setObjectName(QStringLiteral("unitApartAction"));
+      apart->setToolTip(tr("Reopen the assembly with the %1 parts of %2 each its own part").arg(p.unitMembers.size()).arg(name));
+      connect(apart, &QAction::triggered, this, [this, name] { emit unitRequested(name, false); });
+    } else if (const auto group = subAssemblyOf(a->tree, part)) {
+      QAction* join = menu->addAction(tr("Handle %1 as one unit").arg(str(*group)));
+      join->setObjectName(QStringLiteral("unitJoinAction"));
+      join->setToolTip(tr("Reopen the assembly with the sub-assembly %1 ordered, carried and placed as one rigid part").arg(str(*group)));
+      connect(join, &QAction::triggered, this, [this, g = str(*group)] { emit unitRequested(g, true); });
+    }
+  }
   // Which way is up (docs/step.md): the automatic choice or one of the file's axes, the current one ticked.
   if (!a->cadFile.empty()) {
     QMenu* up = menu->addMenu(tr("Which way is up"));

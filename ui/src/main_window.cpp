@@ -11,6 +11,7 @@
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
+#include "vaw/ui/interference_dock.hpp"
 #include "vaw/ui/load_feedback.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
@@ -123,9 +124,12 @@ void MainWindow::createDocks() {
   addDockWidget(Qt::BottomDockWidgetArea, constraintsDock_);
   tabifyDockWidget(motionDock_, constraintsDock_);
   constraintsDock_->attachBaseMenu(sceneDock_);
+  interferenceDock_ = new InterferenceDock(controller_, this);
+  addDockWidget(Qt::BottomDockWidgetArea, interferenceDock_);
+  tabifyDockWidget(constraintsDock_, interferenceDock_);
   sequenceDock_ = new SequenceDock(controller_, this);
   addDockWidget(Qt::BottomDockWidgetArea, sequenceDock_);
-  tabifyDockWidget(constraintsDock_, sequenceDock_);
+  tabifyDockWidget(interferenceDock_, sequenceDock_);
   pathDock_ = new PathDock(*simulation_, *viewport_, controller_.importers(), this);
   addDockWidget(Qt::BottomDockWidgetArea, pathDock_);
   tabifyDockWidget(sequenceDock_, pathDock_);

@@ -17,6 +17,7 @@
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/docks.hpp"
+#include "vaw/ui/interference_dock.hpp"
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/motion_chart.hpp"
@@ -195,6 +196,9 @@ void MainWindow::wireConstraints() {
   connect(constraintsDock_, &ConstraintsDock::upRequested, this, [this](const QString& up) {
     if (maybeSave()) controller_.openWithUp(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, up.toStdString());
   });
+  connect(constraintsDock_, &ConstraintsDock::unitRequested, this, [this](const QString& name, bool asOne) {
+    if (maybeSave()) controller_.openWithUnit(scenePath_.isEmpty() ? controller_.currentPath() : scenePath_, name.toStdString(), asOne);
+  });
   connect(viewport_, &Viewport::contextMenuRequested, this, &MainWindow::showViewportMenu);
 }
 
@@ -262,6 +266,9 @@ void MainWindow::wirePath() {
 void MainWindow::wireSequence() {
   connect(&reportWatcher_, &QFutureWatcher<ReportOutcome>::finished, this, &MainWindow::reportFinished);
   // A row selects its part as the scene tree does: through the viewport, whose selection every view follows.
+  connect(interferenceDock_, &InterferenceDock::partSelected, viewport_, &Viewport::selectPart);
+  connect(interferenceDock_, &InterferenceDock::showWhere, viewport_, &Viewport::showConstraintGeometry);
+  connect(interferenceDock_, &InterferenceDock::hideWhere, viewport_, &Viewport::hideConstraintGeometry);
   connect(sequenceDock_, &SequenceDock::partSelected, viewport_, &Viewport::selectPart);
   connect(viewport_, &Viewport::partSelected, sequenceDock_, &SequenceDock::selectPart);
   connect(sequenceDock_, &SequenceDock::statusMessage, this,

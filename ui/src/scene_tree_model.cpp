@@ -55,7 +55,17 @@ int SceneTreeModel::add(const vaw::Assembly& assembly, const vaw::TreeNode& node
         item.mass = format::mass(part.mass.mass);
         item.toolTip = tr("part \"%1\": %2, %3\n%4")
                            .arg(item.name, item.category, item.mass, format::str(part.category.reason));
-        if (assembly.base && *assembly.base == part.id) item.category += tr(" (base)");
+        if (!part.unitMembers.empty()) {
+          // A bought-in unit moves as one: the tree says so and why (docs/step.md, "Units").
+          item.category = tr("unit of %1 parts").arg(part.unitMembers.size());
+          item.toolTip += tr("\nA unit of %1 parts handled as one: %2. Its context menu takes it apart (Handle as parts).")
+                              .arg(part.unitMembers.size())
+                              .arg(format::str(part.unitReason));
+        }
+        if (assembly.base && *assembly.base == part.id) {
+          item.category += tr(" (base)");
+          if (!assembly.baseReason.empty()) item.toolTip += tr("\nThe base: %1").arg(format::str(assembly.baseReason));
+        }
         describeCollision(item, vaw::collision::ObjectId::part(part.id));
       }
       owningPart = item.part;

@@ -393,6 +393,20 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
   // the way, what those meet, and so on, and every part constrained to one of them; none when the base is
   // among them. Returned in the order the set is put together (its first the part whose way it is, with that
   // way's index; the others -1), found by the same disassembly within the set.
+  // A sub-assembly is carried whole: its parts hold together by their constraints (not a part that only
+  // lies in another's way).
+  const auto connected = [&](const std::vector<PartId>& group) {
+    std::vector<PartId> reached{group.front()};
+    for (std::size_t i = 0; i < reached.size(); ++i)
+      for (const Constraint& c : assembly.constraints) {
+        if (!c.partner) continue;
+        const PartId x = reached[i], other = c.part == x ? *c.partner : *c.partner == x ? c.part : x;
+        if (other != x && std::find(group.begin(), group.end(), other) != group.end() &&
+            std::find(reached.begin(), reached.end(), other) == reached.end())
+          reached.push_back(other);
+      }
+    return reached.size() == group.size();
+  };
   const auto subAssemblyOut = [&]() -> std::vector<std::pair<PartId, int>> {
     std::vector<PartId> best;
     std::size_t bestWay = 0;
@@ -429,7 +443,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
             if (in[r] && !member[r] && partners[r].count(m)) join(r);
           ok = ok && (best.empty() || group.size() < best.size());
         }
-        if (ok && group.size() >= 2) {
+        if (ok && group.size() >= 2 && connected(group)) {
           best = group;
           bestWay = k;
         }

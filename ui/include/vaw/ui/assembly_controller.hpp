@@ -13,6 +13,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "vaw/assembly.hpp"
@@ -92,6 +93,9 @@ class AssemblyController : public QObject {
   // Opens `path` standing the way `up` says (vaw::LoadOptions::cadUp: "auto" or a file axis such as "+y"),
   // and keeps that choice for File > Reload of the same file; File > Save writes it into the scene.
   void openWithUp(const QString& path, const std::string& up);
+  // Opens `path` again with the sub-assembly `name` taken apart (`asOne` false: a unit's parts each its own) or
+  // joined as one unit; the choices add up while the same file is reopened.
+  void openWithUnit(const QString& path, const std::string& name, bool asOne);
   [[nodiscard]] const vaw::LoadOptions& loadOptions() const { return options_; }
 
  public slots:
@@ -142,6 +146,11 @@ class AssemblyController : public QObject {
   };
   std::optional<ChosenBase> chosenBase_;
   std::optional<ChosenBase> chosenUp_;  // `base` holds the up choice
+  struct ChosenUnits {
+    QString path;  // absolute
+    std::set<std::string> split, join;
+  };
+  std::optional<ChosenUnits> chosenUnits_;
 };
 
 }  // namespace vaw::ui

@@ -105,6 +105,9 @@ class ConstraintsDock : public QDockWidget {
   void baseRequested(const QString& part);
   // The user chose which way the CAD assembly stands: "auto" or a file axis ("+y", ...).
   void upRequested(const QString& up);
+  // A bought-in unit taken apart ("Handle as parts"), or a sub-assembly joined as one unit ("Handle as one
+  // unit"), by its name in the file: the assembly reopened so.
+  void unitRequested(const QString& name, bool asOne);
 
  private:
   void assemblyLoaded();

@@ -43,6 +43,7 @@ class WorkPrecisionDock;
 class TrialsDock;
 class ConstraintsDock;
 class SequenceDock;
+class InterferenceDock;
 class PathDock;
 class XrController;
 
@@ -67,6 +68,7 @@ class MainWindow : public QMainWindow {
   [[nodiscard]] TrialsDock* trialsDock() const { return trialsDock_; }
   [[nodiscard]] ConstraintsDock* constraintsDock() const { return constraintsDock_; }
   [[nodiscard]] SequenceDock* sequenceDock() const { return sequenceDock_; }
+  [[nodiscard]] InterferenceDock* interferenceDock() const { return interferenceDock_; }
   [[nodiscard]] PathDock* pathDock() const { return pathDock_; }
   [[nodiscard]] QUndoStack* undoStack() const { return undoStack_; }
   // The stability warning of the status bar (empty when the selected part's swing is stable).
@@ -200,6 +202,7 @@ class MainWindow : public QMainWindow {
   TrialsDock* trialsDock_ = nullptr;
   ConstraintsDock* constraintsDock_ = nullptr;
   SequenceDock* sequenceDock_ = nullptr;
+  InterferenceDock* interferenceDock_ = nullptr;
   PathDock* pathDock_ = nullptr;
   QString pendingReport_;  // the folder a report waits for the order to be written into
   // The report being written in the background: where, and what came of it.

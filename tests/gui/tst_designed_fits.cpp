@@ -1,0 +1,190 @@
+// Assemblies as designers model them, in the workbench as a person uses it (docs/step.md, "Fits as designers
+// model them"): a cap screw put by hand into a hole modelled at its tap drill goes home through its thread
+// and is PLACED; the Interferences panel lists the threads and press fits, and a row clicked shows where the
+// two parts overlap; a bought-in unit is one row of the tree, taken apart from its context menu; and the real
+// SolidWorks rotary table (read where the real exports are kept; skipped, naming the folder, where they are
+// not) opens, its shaft and bearing go home by hand and its thread shows where it is. Real mouse events in
+// the 3D view and the panels; any Qt warning fails the test; screenshots in the build tree (tests/gui).
+#include <QDir>
+#include <QHeaderView>
+#include <QLabel>
+#include <QMenu>
+#include <QSignalSpy>
+#include <QTableView>
+#include <QtTest>
+#include <memory>
+
+#include "gui_test_support.hpp"
+#include "step_fixtures.hpp"
+#include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/docks.hpp"
+#include "vaw/ui/interference_dock.hpp"
+#include "vaw/ui/main_window.hpp"
+#include "vaw/ui/scene_tree_model.hpp"
+#include "vaw/ui/simulation_controller.hpp"
+#include "vaw/ui/viewport.hpp"
+
+using vaw::PartId;
+using vaw::interact::PartState;
+using vaw::ui::AssemblyController;
+using vaw::ui::MainWindow;
+
+class TestDesignedFits : public QObject {
+  Q_OBJECT
+
+ public:
+  static void initMain() {
+    if (qEnvironmentVariableIsEmpty("QT3D_RENDERER")) qputenv("QT3D_RENDERER", "opengl");
+  }
+
+ private slots:
+  void initTestCase();
+  void cleanup();
+  void cleanupTestCase();
+
+  void aCapScrewGoesHomeThroughItsTappedHole();
+  void aBearingIsOneUnitUntilTakenApart();
+  void theRotaryTableOpensAndShowsWhereItsThreadIs();
+
+ private:
+  [[nodiscard]] vaw::ui::SimulationController& sim() const { return window_->simulation(); }
+  [[nodiscard]] const vaw::Assembly& assembly() const { return *controller_->assembly(); }
+  [[nodiscard]] PartId part(const char* name) const { return *assembly().findPart(name); }
+  [[nodiscard]] PartState state(const char* name) const { return sim().world().part(part(name)).state; }
+  void open(const QString& file);
+  void carry(const char* name, double mmAbove) {
+    Eigen::Isometry3d t = *assembly().parts[part(name)].finalPose;
+    t.translation().z() += mmAbove * 1e-3;
+    vaw::guitest::carryWithMouse(*window_, part(name), t, name);
+  }
+  // A click on the Interferences panel's row naming both parts, as a person does; false when none does.
+  bool clickInterference(const QString& a, const QString& b);
+
+  vaw::guitest::Workbench bench_;
+  std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
+  std::unique_ptr<MainWindow>& window_ = bench_.window;
+};
+
+void TestDesignedFits::initTestCase() {
+  QVERIFY(bench_.start({.clearSettings = true, .autoPlay = std::nullopt, .size = {1280, 800}, .activate = false}));
+}
+
+void TestDesignedFits::cleanup() {
+  if (window_) sim().pause();
+  vaw::guitest::verifyNoWarnings();
+}
+
+void TestDesignedFits::cleanupTestCase() { bench_.stop(); }
+
+void TestDesignedFits::open(const QString& file) {
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  controller_->open(file);
+  QVERIFY(loaded.wait(120000) || !loaded.isEmpty());
+  QVERIFY(sim().hasWorld());
+  sim().setSpeed(1.0);
+  QVERIFY(!vaw::guitest::capture(window_->viewport()).isNull());
+}
+
+bool TestDesignedFits::clickInterference(const QString& a, const QString& b) {
+  vaw::ui::InterferenceDock* dock = window_->interferenceDock();
+  dock->show();
+  dock->raise();
+  QTableView* view = dock->view();
+  for (int row = 0; row < dock->model()->rowCount(); ++row) {
+    const QString x = dock->model()->index(row, vaw::ui::InterferenceModel::FirstColumn).data().toString();
+    const QString y = dock->model()->index(row, vaw::ui::InterferenceModel::SecondColumn).data().toString();
+    if (!((x == a && y == b) || (x == b && y == a))) continue;
+    view->scrollTo(dock->model()->index(row, 0));
+    const QRect cell = view->visualRect(dock->model()->index(row, vaw::ui::InterferenceModel::KindColumn));
+    QTest::mouseClick(view->viewport(), Qt::LeftButton, {}, cell.center());
+    return true;
+  }
+  return false;
+}
+
+void TestDesignedFits::aCapScrewGoesHomeThroughItsTappedHole() {
+  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-fastened-%1.stp").arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeFastenedBlock(file.toStdString());
+  open(file);
+  QFile::remove(file);
+  // Checked in the background when the file opened: four threads and two press fits, no clash.
+  vaw::ui::InterferenceDock* dock = window_->interferenceDock();
+  QTRY_VERIFY_WITH_TIMEOUT(!dock->checking() && dock->model()->rowCount() == 6, 20000);
+  QVERIFY2(dock->hint()->text().startsWith(QStringLiteral("0 clash")), qPrintable(dock->hint()->text()));
+
+  // As a fitter: the dowels pressed into the base, the bracket over them, a cap screw into its counterbore
+  // and on down through its thread at the tap drill: home, PLACED.
+  for (const char* dowel : {"dowel-1", "dowel-2"}) {
+    carry(dowel, 3.0);
+    QTRY_VERIFY2_WITH_TIMEOUT(state(dowel) == PartState::Placed, dowel, 5000);
+  }
+  carry("bracket", 3.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("bracket") == PartState::Placed, "bracket", 5000);
+  carry("cap-screw-1", 4.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("cap-screw-1") == PartState::Placed, "cap-screw-1", 5000);
+  const Eigen::Isometry3d home = *assembly().parts[part("cap-screw-1")].finalPose;
+  QVERIFY2((sim().world().part(part("cap-screw-1")).pose.translation() - home.translation()).norm() < 1e-4,
+           "the screw is home, its head on the counterbore's floor, its shank 0.5 mm into the thread");
+
+  // The thread clicked in the panel: the screw selected, the overlap drawn on the base along its axis.
+  QVERIFY(clickInterference(QStringLiteral("cap-screw-1"), QStringLiteral("base")));
+  QTRY_VERIFY_WITH_TIMEOUT(window_->viewport()->constraintGeometry().has_value(), 3000);
+  const auto shown = *window_->viewport()->constraintGeometry();
+  QCOMPARE(shown.partner, part("base"));
+  QVERIFY(std::abs(std::abs(shown.direction.z()) - 1.0) < 1e-6);
+  QTest::qWait(200);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-cap-screw-home.png"));
+}
+
+void TestDesignedFits::aBearingIsOneUnitUntilTakenApart() {
+  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-bearing-%1.stp").arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeBearingInHousing(file.toStdString());
+  open(file);
+  QCOMPARE(assembly().parts.size(), std::size_t{3});
+  const QModelIndex bearing = window_->sceneDock()->model()->indexOfPart(part("bearing"));
+  QVERIFY(bearing.isValid());
+  QCOMPARE(window_->sceneDock()->model()->rowCount(bearing), 10);
+  QVERIFY(bearing.data(Qt::ToolTipRole).toString().contains(QStringLiteral("A unit of 10 parts")));
+  // It goes into its housing whole.
+  carry("bearing", 3.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("bearing") == PartState::Placed, "bearing", 5000);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-bearing-unit.png"));
+
+  // Right-click it in the tree, Handle as parts: its rings and balls each a part.
+  QMenu* menu = vaw::guitest::openSceneTreeMenu(*window_, part("bearing"));
+  QVERIFY(menu != nullptr);
+  QAction* apart = menu->findChild<QAction*>(QStringLiteral("unitApartAction"));
+  QVERIFY(apart != nullptr && apart->isEnabled());
+  QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
+  QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(apart).center());
+  QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
+  QFile::remove(file);
+  QCOMPARE(assembly().parts.size(), std::size_t{12});
+  QVERIFY(assembly().findPart("ball-4").has_value());
+}
+
+void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {
+  const QString file = QDir(QStringLiteral(VAW_CAD_EXPORTS_DIR)).filePath(QStringLiteral("Drehtisch.STEP"));
+  if (!QFile::exists(file)) QSKIP(qPrintable(QStringLiteral("no %1 (the real CAD exports are not here)").arg(file)));
+  open(file);
+  vaw::ui::InterferenceDock* dock = window_->interferenceDock();
+  QTRY_VERIFY_WITH_TIMEOUT(!dock->checking() && dock->model()->rowCount() > 0, 30000);
+  // The base is the floor plate with its internal gear; the stepper motor one unit.
+  QVERIFY(assembly().parts[*assembly().base].name.rfind("Bodenplatte", 0) == 0);
+  QVERIFY(assembly().findPart("NEMA 17_Predeterminado").has_value());
+  // The shaft onto the floor plate and the lower bearing down over it, by hand.
+  carry("rotationswelle", 3.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("rotationswelle") == PartState::Placed, "rotationswelle", 8000);
+  carry("Kugellager", 3.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("Kugellager") == PartState::Placed, "Kugellager", 8000);
+  // An M4 thread clicked in the panel shows where it is.
+  const QString screw = QStringLiteral("socket head cap screw_iso_ISO 4762 M4 x 12 - 12N");
+  const QString nut = QStringLiteral("hex nut style 1 gradeab_iso_ISO - 4032 - M4 - W - N #4");
+  QVERIFY(clickInterference(screw, nut));
+  QTRY_VERIFY_WITH_TIMEOUT(window_->viewport()->constraintGeometry().has_value(), 3000);
+  QTest::qWait(200);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-rotary-table.png"));
+}
+
+QTEST_MAIN(TestDesignedFits)
+#include "tst_designed_fits.moc"
