@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "vaw/report/report.hpp"
+#include "vaw/collision/interference.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/evaluation/session_stats.hpp"
 #include "vaw/evaluation/way_clearance.hpp"
@@ -256,7 +257,11 @@ int evaluate(const EvaluateArgs& args) {
     }
     if (!args.report.empty()) {
       std::fflush(stdout);  // the table before the note, when both go to one file
-      const report::ReportFiles files = report::writeReport(a, plan, sessions, args.report, {}, ways ? &*ways : nullptr);
+      // A CAD assembly's parts come with their assembled places: what overlaps there is in the report too.
+      std::optional<std::vector<collision::Interference>> overlaps;
+      if (!a.cadFile.empty()) overlaps = collision::interferences(a, collision::assembledPoses(a));
+      const report::ReportFiles files =
+          report::writeReport(a, plan, sessions, args.report, {}, ways ? &*ways : nullptr, overlaps ? &*overlaps : nullptr);
       std::fprintf(stderr, "vaw-sim: wrote %s (and parts.csv, sequence.csv, sessions.csv%s, evaluation.json beside it)\n",
                    files.html.string().c_str(), ways ? ", ways.csv" : "");
     }

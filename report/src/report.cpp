@@ -363,8 +363,46 @@ json waysJson(const Assembly& a, const WaysHome& ways) {
           {"voxel_m", ways.options.voxel}, {"parts", parts}};
 }
 
+// What overlaps at rest, for the report: the table (clashes in red), interferences.csv, evaluation.json's rows.
+struct OverlapSection {
+  std::string html, csv;
+  json rows = json::array();
+};
+
+OverlapSection overlapSection(const Assembly& a, const std::vector<collision::Interference>& all) {
+  using Kind = collision::Interference::Kind;
+  OverlapSection s;
+  s.csv = "kind,thread,part,with,volume_mm3,depth_mm,x_mm,y_mm,z_mm\n";
+  std::size_t count[4] = {0, 0, 0, 0};
+  std::string rows;
+  for (const auto& i : all) {
+    ++count[static_cast<int>(i.kind)];
+    const std::string kind(collision::name(i.kind));
+    s.rows.push_back({{"kind", kind}, {"thread", i.thread}, {"parts", {a.parts[i.a].name, a.parts[i.b].name}}, {"volume_m3", i.volume},
+                      {"depth_m", i.depth}, {"where_m", {i.where.x(), i.where.y(), i.where.z()}}});
+    if (i.kind == Kind::Contact) continue;
+    s.csv += kind + "," + csv(i.thread) + "," + csv(a.parts[i.a].name) + "," + csv(a.parts[i.b].name) + "," + formatNumber(1e9 * i.volume) + "," +
+             formatNumber(1e3 * i.depth) + "," + formatNumber(1e3 * i.where.x()) + "," + formatNumber(1e3 * i.where.y()) + "," +
+             formatNumber(1e3 * i.where.z()) + "\n";
+    rows += std::string("<tr") + (i.kind == Kind::Clash ? " class='stuck'" : "") + "><td>" +
+            html(i.kind == Kind::Threaded ? "threaded " + i.thread : i.kind == Kind::Press ? std::string("press fit") : std::string("clash")) +
+            "</td><td>" + html(a.parts[i.a].name) + "</td><td>" + html(a.parts[i.b].name) + "</td><td class='n'>" + formatNumber(1e9 * i.volume) +
+            "</td><td class='n'>" + formatNumber(1e3 * i.depth) + "</td></tr>\n";
+  }
+  s.html = "<h2>Interferences at rest</h2>\n<p>Every pair of parts whose solids share volume where the file places them: " +
+           std::to_string(count[static_cast<int>(Kind::Clash)]) + " clash(es), a modelling error to correct (red); " +
+           std::to_string(count[static_cast<int>(Kind::Threaded)]) + " thread(s) modelled at the tap drill and " +
+           std::to_string(count[static_cast<int>(Kind::Press)]) + " press fit(s), which are fits; " +
+           std::to_string(count[static_cast<int>(Kind::Contact)]) + " pair(s) only touch.</p>\n";
+  if (!rows.empty())
+    s.html += "<table id='interferences'><tr><th>kind</th><th>part</th><th>with</th><th>volume mm&sup3;</th><th>depth mm</th></tr>\n" + rows +
+              "</table>\n";
+  return s;
+}
+
 ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir, const ProgressFn& progress, const WaysHome* waysHome) {
+                        const std::filesystem::path& dir, const ProgressFn& progress, const WaysHome* waysHome,
+                        const std::vector<collision::Interference>* overlaps) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw OutputError(dir.string() + ": cannot create the report folder: " + ec.message());
@@ -620,6 +658,11 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
     if (pictured.size() < waysHome->ways.size())
       h += "<p>The " + std::to_string(pictured.size()) + " nearest passes are pictured; every way is in the table and in ways.csv.</p>\n";
   }
+  const std::optional<OverlapSection> overlapsShown = overlaps ? std::optional(overlapSection(a, *overlaps)) : std::nullopt;
+  if (overlapsShown) {
+    h += overlapsShown->html;
+    j["interferences"] = overlapsShown->rows;
+  }
   h += "<h2>Parts</h2>\n<p>Estimate: Boothroyd-Dewhurst manual handling and insertion times (the codes' rows are in the docs);"
        " a part slow in the sessions and slow by the estimate is slow by design.</p>\n"
        "<table id='parts'><tr><th>part</th><th>step</th><th>comes home</th><th>blocked by</th><th>handling</th><th>insertion</th>"
@@ -663,7 +706,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   h += "<p style='font-size:11px;color:#777'>Written by vaw-sim evaluate; the same numbers are in parts.csv, sequence.csv, sessions.csv" +
        std::string(waysHome ? ", ways.csv" : "") + " and evaluation.json beside this page.</p></body></html>\n";
 
-  ReportFiles files{dir / "report.html", dir / "parts.csv", dir / "sequence.csv", dir / "sessions.csv", dir / "evaluation.json", {}};
+  ReportFiles files{dir / "report.html", dir / "parts.csv", dir / "sequence.csv", dir / "sessions.csv", dir / "evaluation.json", {}, {}};
   AtomicFile fh(files.html), fp(files.partsCsv), fs(files.sequenceCsv), fss(files.sessionsCsv), fj(files.json);
   std::optional<AtomicFile> fw;
   fh << h;
@@ -677,6 +720,13 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
     fw.emplace(files.waysCsv);
     *fw << waysCsv;
     all.push_back(&*fw);
+  }
+  std::optional<AtomicFile> fi;
+  if (overlapsShown) {
+    files.interferencesCsv = dir / "interferences.csv";
+    fi.emplace(files.interferencesCsv);
+    *fi << overlapsShown->csv;
+    all.push_back(&*fi);
   }
   for (AtomicFile* f : all) f->finish();
   // The page last: whoever waits for report.html finds the rest there.

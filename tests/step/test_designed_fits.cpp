@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <string>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "vaw/collision/interference.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/fits.hpp"
+#include "vaw/report/report.hpp"
 #include "vaw/scene_loader.hpp"
 
 namespace {
@@ -205,6 +208,26 @@ TEST(FastenedBlockClash, AClashIsMeasuredShownAndPassedThroughWithANote) {
   const vaw::eval::Direction* way = plan.wayOf(id(a, "dowel-1"));
   ASSERT_NE(way, nullptr);
   EXPECT_NE(way->from.find("through its clash with base"), std::string::npos) << way->from;
+}
+
+TEST(FastenedBlockClash, TheReportListsWhatOverlapsClashesFirst) {
+  const fs::path file = vaw::test::tempDir() / "fastened-clash-report.stp";
+  vaw::steptest::writeFastenedBlock(file, {false, false, true});
+  const Assembly a = load(file);
+  const auto all = vaw::collision::interferences(a, vaw::collision::assembledPoses(a));
+  const fs::path dir = vaw::test::tempDir() / "fastened-clash-report";
+  const auto files = vaw::report::writeReport(a, vaw::eval::planSequence(a), {}, dir, {}, nullptr, &all);
+  ASSERT_FALSE(files.interferencesCsv.empty());
+  std::ifstream in(files.interferencesCsv);
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  EXPECT_EQ(header, "kind,thread,part,with,volume_mm3,depth_mm,x_mm,y_mm,z_mm");
+  EXPECT_EQ(first.rfind("clash,,base,dowel-1,", 0), 0u) << first;
+  std::ifstream page(files.html);
+  const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+  EXPECT_NE(html.find("<h2>Interferences at rest</h2>"), std::string::npos);
+  EXPECT_NE(html.find("2 clash(es)"), std::string::npos);
 }
 
 TEST(BearingUnit, ABearingWithItsBallsIsOnePartAndGoesInWhole) {

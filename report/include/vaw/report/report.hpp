@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "vaw/collision/interference.hpp"
 #include "vaw/evaluation/dfa.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/evaluation/session_stats.hpp"
@@ -45,6 +46,7 @@ std::string formatNumber(double v);
 struct ReportFiles {
   std::filesystem::path html, partsCsv, sequenceCsv, sessionsCsv, json;
   std::filesystem::path waysCsv;  // with the ways home's clearances only
+  std::filesystem::path interferencesCsv;  // with what overlaps at rest only
 };
 
 // The ways home's clearance and space (eval::wayClearances), for the report's section on them: a table,
@@ -63,7 +65,10 @@ nlohmann::json waysJson(const Assembly& assembly, const WaysHome& ways);
 // missing). Throws vaw::OutputError naming the file when one cannot be written. `progress` hears of each
 // picture drawn; when it returns false the report is abandoned (vaw::LoadCancelled) before any file is
 // written. `ways` (may be null) adds the ways home's section.
+// `overlaps` (may be null) adds what overlaps at rest (collision::interferences): a table, clashes first,
+// interferences.csv and evaluation.json's "interferences".
 ReportFiles writeReport(const Assembly& assembly, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir, const ProgressFn& progress = {}, const WaysHome* ways = nullptr);
+                        const std::filesystem::path& dir, const ProgressFn& progress = {}, const WaysHome* ways = nullptr,
+                        const std::vector<collision::Interference>* overlaps = nullptr);
 
 }  // namespace vaw::report
