@@ -25,6 +25,7 @@
 #include "vaw/cad_assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/collision/interference.hpp"
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/interaction/states.hpp"
 #include "vaw/paths.hpp"
 #include "vaw/scene_loader.hpp"
@@ -63,6 +64,29 @@ nlohmann::json interferenceJson(const vaw::Assembly& a, const std::vector<vaw::c
     out.push_back(std::move(j));
   }
   return out;
+}
+
+// The faces that look like a fit and were not taken, at the assembled poses (docs/step.md, "Near misses").
+std::vector<vaw::NearMiss> nearMissesOf(const vaw::Assembly& a) {
+  std::vector<vaw::RecognitionPart> parts;
+  const auto poses = vaw::collision::assembledPoses(a);
+  for (const auto& p : a.parts) parts.push_back({p.cad, poses[p.id]});
+  return vaw::nearMisses(parts);
+}
+
+nlohmann::json nearMissJson(const vaw::Assembly& a, const std::vector<vaw::NearMiss>& misses) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& m : misses)
+    out.push_back({{"parts", {a.parts[m.a].name, a.parts[m.b].name}}, {"type", std::string(vaw::name(m.type))}, {"why", m.why},
+                   {"measured", m.value}, {"limit", m.limit}});
+  return out;
+}
+
+void printNearMisses(const vaw::Assembly& a, const std::vector<vaw::NearMiss>& misses) {
+  std::printf("near misses (faces that look like a fit and were not taken): %zu\n", misses.size());
+  for (const auto& m : misses)
+    std::printf("near miss %s: %s and %s: %s\n", std::string(vaw::name(m.type)).c_str(), a.parts[m.a].name.c_str(), a.parts[m.b].name.c_str(),
+                m.why.c_str());
 }
 
 // "13 threaded, 1 clash, 96 contacts", then a line per designed fit and clash.
@@ -247,13 +271,20 @@ int inspect(const InspectArgs& args) {
     const auto checked = std::chrono::steady_clock::now();
     if (!a.cadFile.empty()) overlaps = vaw::collision::interferences(a, vaw::collision::assembledPoses(a));
     if (args.timings) timings.emplace_back("interferences at rest", std::chrono::duration<double>(std::chrono::steady_clock::now() - checked).count());
+    const std::vector<vaw::NearMiss> misses = a.cadFile.empty() ? std::vector<vaw::NearMiss>{} : nearMissesOf(a);
     if (args.json) {
       nlohmann::json j = toJson(a, fits);
-      if (!a.cadFile.empty()) j["interferences"] = interferenceJson(a, overlaps);
+      if (!a.cadFile.empty()) {
+        j["interferences"] = interferenceJson(a, overlaps);
+        j["near_misses"] = nearMissJson(a, misses);
+      }
       std::cout << j.dump(2) << '\n';
     } else {
       printTable(a, fits);
-      if (!a.cadFile.empty()) printInterferences(a, overlaps);
+      if (!a.cadFile.empty()) {
+        printInterferences(a, overlaps);
+        printNearMisses(a, misses);
+      }
     }
     // On stderr, so that the table and the JSON stay what they are.
     for (const auto& [stage, seconds] : timings) std::fprintf(stderr, "time: %-36s %8.3f s\n", stage.c_str(), seconds);

@@ -358,10 +358,10 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
   return total;
 }
 
-std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol,
-                                                  const PairProgress& progress) {
-  std::vector<FoundConstraint> out;
-  const double margin = tol.distance + tol.maxClearance;
+namespace {
+
+// Candidate pairs of parts (index order) whose boxes, grown by `margin`, meet: a sweep along x.
+std::vector<std::pair<std::size_t, std::size_t>> candidatePairs(const std::vector<RecognitionPart>& parts, double margin) {
   std::vector<Eigen::AlignedBox3d> boxes;
   for (const auto& p : parts) {
     Eigen::AlignedBox3d b = worldBox(p);
@@ -371,8 +371,6 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
     }
     boxes.push_back(b);
   }
-  // Candidate pairs from a sweep along x over the grown boxes, then in index order, so the constraints
-  // come out in the order a test of every pair gives.
   std::vector<std::size_t> byX;
   for (std::size_t i = 0; i < parts.size(); ++i)
     if (!boxes[i].isEmpty()) byX.push_back(i);
@@ -382,6 +380,67 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
     for (std::size_t l = k + 1; l < byX.size() && boxes[byX[l]].min().x() <= boxes[byX[k]].max().x(); ++l)
       if (boxes[byX[k]].intersects(boxes[byX[l]])) pairs.emplace_back(std::minmax(byX[k], byX[l]));
   std::sort(pairs.begin(), pairs.end());
+  return pairs;
+}
+
+}  // namespace
+
+std::vector<NearMiss> nearMisses(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol) {
+  constexpr double kAngle = 0.0175;  // rad, about 1 degree
+  constexpr double kApart = 0.5e-3;  // m
+  std::vector<NearMiss> out;
+  const auto add = [&](std::size_t i, std::size_t j, const WorldFace& x, const WorldFace& y, Constraint::Type type, const Verdict& v) {
+    out.push_back({i, j, x.index, y.index, type, describe(v), v.value, v.limit});
+  };
+  for (const auto& [i, j] : candidatePairs(parts, tol.distance + tol.maxClearance + kApart)) {
+    const std::vector<WorldFace> ci = worldFaces(parts[i], CadFace::Surface::Cylinder), cj = worldFaces(parts[j], CadFace::Surface::Cylinder);
+    for (const WorldFace& x : ci)
+      for (const WorldFace& y : cj) {
+        if (x.face->convex == y.face->convex || x.direction.cross(y.direction).norm() > kAngle) continue;
+        const Eigen::Vector3d rel = y.point - x.point;
+        const double apart = (rel - x.direction * x.direction.dot(rel)).norm();
+        const double bore = x.face->convex ? y.face->radius : x.face->radius;
+        if (apart > std::max(kApart, 0.1 * std::min(x.face->radius, y.face->radius))) continue;
+        FoundConstraint f;
+        const Verdict v = testInsert(x, y, tol, f);
+        // A shaft larger than the bore by more than a few percent is a head over its hole, not a fit; and only
+        // where the two faces overlap along the axis.
+        const auto overlapping = [&] {
+          const WorldFace& shaft = x.face->convex ? x : y;
+          const WorldFace& hole = x.face->convex ? y : x;
+          const Eigen::Vector3d u = hole.direction;
+          const double shift = u.dot(shaft.point - hole.point), sign = shaft.direction.dot(u) >= 0.0 ? 1.0 : -1.0;
+          const double s0 = std::min(shift + sign * shaft.axialMin, shift + sign * shaft.axialMax);
+          const double s1 = std::max(shift + sign * shaft.axialMin, shift + sign * shaft.axialMax);
+          return std::min(s1, hole.axialMax) - std::max(s0, hole.axialMin) > tol.distance;
+        };
+        const bool near = v.refusal == Refusal::AxesAngle || v.refusal == Refusal::AxesApart ||
+                          (v.refusal == Refusal::Interference && v.value <= 0.15 * bore && overlapping()) ||
+                          (v.refusal == Refusal::TooLoose && v.value <= 2.0 * v.limit) ||
+                          (v.refusal == Refusal::NoAxialOverlap && v.value > -1e-3);
+        if (near) add(i, j, x, y, Constraint::Type::Insert, v);
+      }
+    const std::vector<WorldFace> pi = worldFaces(parts[i], CadFace::Surface::Plane), pj = worldFaces(parts[j], CadFace::Surface::Plane);
+    for (const WorldFace& x : pi)
+      for (const WorldFace& y : pj) {
+        if (x.direction.dot(y.direction) > -std::cos(kAngle) || std::abs(x.direction.dot(y.point - x.point)) > kApart) continue;
+        FoundConstraint f;
+        const Verdict v = testMate(parts[i], x, parts[j], y, tol, f);
+        if (v.refusal != Refusal::NotFacing && v.refusal != Refusal::PlanesApart) continue;
+        // Over each other by more than an edge: their faces projected into x's plane share area.
+        const double area = coplanarOverlapArea(*parts[i].solid, *x.face, parts[i].pose, *parts[j].solid, *y.face, parts[j].pose);
+        if (area > tol.minOverlapRel * std::min(x.face->area, y.face->area)) add(i, j, x, y, Constraint::Type::Mate, v);
+      }
+  }
+  return out;
+}
+
+std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol,
+                                                  const PairProgress& progress) {
+  std::vector<FoundConstraint> out;
+  // Candidate pairs from a sweep over the parts' boxes, then in index order, so the constraints come out in
+  // the order a test of every pair gives.
+  const std::vector<std::pair<std::size_t, std::size_t>> pairs = candidatePairs(parts, tol.distance + tol.maxClearance);
 
   // Each part's faces in the world once, not once per partner (the base meets every part).
   std::vector<std::vector<WorldFace>> cylinders(parts.size()), planes(parts.size());

@@ -415,7 +415,7 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style)
   w.write(file, style.schema, style.inches);
 }
 
-void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY) {
+void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY, bool emptyHoles) {
   if (tilesX < 1 || tilesY < 1) throw std::invalid_argument("step fixtures: writeTiledProduct needs at least one tile");
   Writer w;
   // Every tile's six bolt holes and four dowel holes in the one plate.
@@ -425,6 +425,8 @@ void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY
       const double ox = kTilePitchX * i, oy = kTilePitchY * j;
       for (const auto& b : kRodBolts) holes.push_back({ox + b[0], oy + b[1], 4.25});
       for (const auto& d : kTileDowels) holes.push_back({ox + d[0], oy + d[1], 3.2});
+      if (emptyHoles)
+        for (const double y : {40.0, 60.0}) holes.push_back({ox + 100, oy + y, 4.25});
     }
   // The plate's own frame at its centre, so that its instance has a placement (and keeps its name).
   const double x0 = -10, y0 = -10, x1 = kTilePitchX * tilesX, y1 = kTilePitchY * tilesY;

@@ -56,7 +56,9 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style 
 // row by row): the bolted rod's brackets, bolts, nuts and rod (bracket-1/2, bolt-1..6, nut-1..6, rod,
 // named and placed as in writeBoltedRod; no rod nuts) and "dowel-1".."dowel-4" (r 3, z 2..24). 19 parts a
 // tile, 24 inserts and 14 mates. 9 x 6 tiles make 1,027 parts with 540 holes in a 1.9 m plate.
-void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY);
+// With `emptyHoles`, each tile's plate area has two more through holes (r 4.25 at (100, 40) and (100, 60) of
+// the tile) that nothing goes into, as a base drilled for options has.
+void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY, bool emptyHoles = false);
 
 // An assembly modelled the way designers model fasteners and fits (mm, Z up; step_fixtures.cpp has every
 // coordinate): the "BASE" block (120 x 80 x 20, top edges chamfered) with two tapped M6 holes modelled at

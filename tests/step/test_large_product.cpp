@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <numeric>
 #include <set>
 #include <string>
 #include <tuple>
@@ -19,6 +20,7 @@
 #include "files.hpp"
 #include "step_fixtures.hpp"
 #include "vaw/collision/collision_world.hpp"
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/scene_loader.hpp"
 
@@ -172,6 +174,36 @@ TEST(LargeProduct, AnOrderPutsEveryPartInPlaceKeepingEveryTruePrecedence) {
   EXPECT_EQ(broken, 0);
   std::printf("[ info ] %zu parts ordered; %d pair sweeps, %d answered by another's, %d checks\n", plan.order.size(),
               plan.sweeps, plan.reused, plan.evaluations);
+}
+
+// Recognition does not depend on a part's size (docs/step.md, "Large products"): the same tile on a base
+// plate that grows from one tile to ten, and to ten by two, with two holes per tile that nothing goes into,
+// gets exactly the same constraints, tile for tile, kind for kind, none of them onto an empty hole; no near
+// miss anywhere.
+TEST(LargeProduct, RecognitionIsTheSameTileForTileAsTheBaseGrows) {
+  std::map<std::string, int> perTile;  // "insert bolt-3 on base-plate" and the like, counted for one tile
+  for (const auto& [x, y] : {std::pair{1, 1}, std::pair{2, 1}, std::pair{5, 1}, std::pair{10, 1}, std::pair{10, 2}}) {
+    const auto file = vaw::test::tempDir() / ("tiled-" + std::to_string(x) + "x" + std::to_string(y) + "-empty-holes.stp");
+    vaw::steptest::writeTiledProduct(file, x, y, true);
+    const Assembly a = vaw::loadAny(file, vaw::test::importers());
+    const int tiles = x * y;
+    ASSERT_EQ(a.parts.size(), 1u + 19u * static_cast<std::size_t>(tiles));
+    std::map<std::string, int> counted;
+    for (const Constraint& c : a.constraints) {
+      const std::string partner = c.partner ? tileOf(a.parts[*c.partner].name).first : a.parts[*a.base].name;
+      ++counted[std::string(vaw::name(c.type)) + " " + tileOf(a.parts[c.part].name).first + " on " + partner];
+    }
+    if (perTile.empty()) {
+      perTile = counted;
+      EXPECT_EQ(std::accumulate(perTile.begin(), perTile.end(), 0, [](int n, const auto& e) { return n + e.second; }), 38);
+      continue;
+    }
+    for (const auto& [kind, n] : perTile) EXPECT_EQ(counted[kind], n * tiles) << kind << " on " << x << " x " << y << " tiles";
+    EXPECT_EQ(counted.size(), perTile.size()) << x << " x " << y;
+    std::vector<vaw::RecognitionPart> parts;
+    for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
+    EXPECT_TRUE(vaw::nearMisses(parts).empty()) << x << " x " << y;
+  }
 }
 
 }  // namespace

@@ -67,6 +67,22 @@ struct FacePairResult {
 FacePairResult constraintFromFaces(const std::vector<RecognitionPart>& parts, std::size_t a, std::size_t faceA, std::size_t b,
                                    std::size_t faceB, const RecognitionTolerances& tol = {});
 
+// A pair of faces that looks like a fit and was not taken (docs/step.md, "Near misses"): two coaxial
+// cylinders of opposite kinds, or two facing planes over a common area, refused by one of recognition's
+// tests; `why` says which, with what it measured and the limit ("the bore is 2.3 mm larger in radius than
+// the shaft: more play than 2 mm"). So that a missing constraint can be seen, not guessed.
+struct NearMiss {
+  std::size_t a = 0, b = 0;          // indices into the parts
+  std::size_t faceA = 0, faceB = 0;  // into each solid's faces
+  Constraint::Type type = Constraint::Type::Insert;
+  std::string why;
+  double value = 0.0, limit = 0.0;  // what the refusing test measured and its limit (m, m^2 or rad)
+};
+// Every near miss between the parts, in the order recognition tries the pairs. Nearly coaxial: axes within
+// 1 degree and max(0.5 mm, a tenth of the smaller radius) of each other; nearly facing: normals within 1
+// degree of opposed, the planes within 0.5 mm, their faces over each other by more than an edge.
+std::vector<NearMiss> nearMisses(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol = {});
+
 // The area common to two planar faces that lie in one plane (face A's triangles against face B's), m^2.
 double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b,
                            const CadFace& fb, const Eigen::Isometry3d& poseB);
