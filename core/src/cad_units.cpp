@@ -12,7 +12,6 @@
 #include "vaw/cad_assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/constraint_recognition.hpp"
-#include "vaw/evaluation/sequence.hpp"
 #include "vaw/hash.hpp"
 #include "vaw/kept_results.hpp"
 
@@ -90,63 +89,40 @@ std::string trapped(const std::vector<Member>& members) {
   a.base = base;
   a.parts[base].finalPose.reset();
   a.constraints = constraintsFromFound(found, a.parts, base, poses);
-  // What can trap a part, looked for before the order search (seconds for a sub-assembly of thirty parts):
-  // two parts that share volume beyond a designed fit (a rotor modelled through its housing, screws in a
-  // dummy without holes), or a part in no constraint with the others held wherever it moves (a ball).
+  // Held fast by each other: two parts that share volume beyond a designed fit (a rotor modelled through its
+  // housing, screws in a dummy servo without holes), or a part in no constraint with the others that meets
+  // one of them within a tenth of a millimetre whichever way it moves (a ball between its races). A part that
+  // could move a little before it meets another (a bracket on a rod through its bore) is not held so: such
+  // parts come apart in a fitter's hands, whatever order a search finds, and the sub-assembly is no unit.
   const collision::CollisionWorld world(a);
-  {
-    collision::QueryOptions clash;
-    clash.dropTouching = true;
-    clash.skipDesigned = true;
-    clash.stopAtFirst = true;
-    bool candidate = false;
-    for (PartId p = 0; p < a.parts.size() && !candidate; ++p)
-      for (const collision::ObjectId& q : world.near(world.worldBounds(collision::ObjectId::part(p)), collision::ObjectId::part(p)))
-        if (q.kind == collision::ObjectId::Kind::Part && q.index > p && !world.query(collision::ObjectId::part(p), q, clash).contacts.empty()) {
-          candidate = true;
-          break;
-        }
-    std::vector<bool> constrained(a.parts.size(), false);
-    for (const FoundConstraint& f : found) constrained[f.a] = constrained[f.b] = true;
-    for (PartId p = 0; p < a.parts.size() && !candidate; ++p) {
-      if (constrained[p]) continue;
-      bool held = true;
-      for (int k = 0; k < 6 && held; ++k) {
-        Eigen::Isometry3d moved = poses[p];
-        moved.pretranslate((k % 2 == 0 ? kAtOnce : -kAtOnce) * Eigen::Vector3d::Unit(k / 2));
-        held = !world.colliding(collision::ObjectId::part(p), moved).contacts.empty();
+  collision::QueryOptions clash;
+  clash.dropTouching = true;
+  clash.skipDesigned = true;
+  clash.stopAtFirst = true;
+  std::vector<std::string> held;
+  for (PartId p = 0; p < a.parts.size() && held.size() <= 3; ++p)
+    for (const collision::ObjectId& q : world.near(world.worldBounds(collision::ObjectId::part(p)), collision::ObjectId::part(p)))
+      if (q.kind == collision::ObjectId::Kind::Part && q.index > p && !world.query(collision::ObjectId::part(p), q, clash).contacts.empty()) {
+        held.push_back(a.parts[p].name + " drawn into " + a.parts[q.index].name);
+        break;
       }
-      candidate = held;
+  std::vector<bool> constrained(a.parts.size(), false);
+  for (const FoundConstraint& f : found) constrained[f.a] = constrained[f.b] = true;
+  for (PartId p = 0; p < a.parts.size() && held.size() <= 3; ++p) {
+    if (constrained[p]) continue;
+    bool fast = true;
+    for (int k = 0; k < 6 && fast; ++k) {
+      Eigen::Isometry3d moved = poses[p];
+      moved.pretranslate((k % 2 == 0 ? kAtOnce : -kAtOnce) * Eigen::Vector3d::Unit(k / 2));
+      fast = !world.colliding(collision::ObjectId::part(p), moved).contacts.empty();
     }
-    if (!candidate) return {};
+    if (fast) held.push_back(a.parts[p].name + " held whichever way it moves");
   }
-  eval::SequenceOptions strict;
-  strict.throughClashes = false;
-  const eval::SequencePlan plan = eval::planSequence(a, world, strict);
-  if (plan.complete()) return {};
-  // Trapped: held at once, in every way it has, by the others (a ball between its races, a rotor modelled
-  // through its housing). A part that could move a little before it meets another (a bracket on a rod
-  // through its bore) is held by the order search's limits, not by the parts: those come apart in a
-  // fitter's hands, and the sub-assembly is no unit.
-  const auto heldAtOnce = [&](PartId p) {
-    const eval::PartCheck* check = plan.checkOf(p);
-    if (!check || check->directions.empty()) return false;
-    for (const eval::Direction& d : check->directions)
-      if (d.blockers.empty() || d.blockers.front().distance > kAtOnce) return false;
-    return true;
-  };
+  if (held.empty()) return {};
   std::string why;
-  std::size_t named = 0;
-  for (const eval::Stuck& s : plan.stuck) {
-    if (!s.waitsFor.empty() || !heldAtOnce(s.part)) continue;  // stuck only behind another, or not held fast
-    if (named++ == 3) {
-      why += ", ...";
-      break;
-    }
-    why += (why.empty() ? "" : ", ") + a.parts[s.part].name;
-  }
-  if (why.empty()) return {};
-  return "its parts do not come apart on their own (" + why + " cannot be taken out)";
+  for (std::size_t k = 0; k < held.size() && k < 3; ++k) why += (k == 0 ? "" : "; ") + held[k];
+  if (held.size() > 3) why += "; ...";
+  return "its parts do not come apart on their own (" + why + ")";
 }
 
 // One solid holding every member, in the sub-assembly's frame: meshes and faces side by side, mass

@@ -3,8 +3,18 @@
 // checks, constraint recognition and the layout), that plus the collision geometry the world runs on,
 // recognition alone, and the assembly sequence found from the geometry; for the bundled sample and for
 // 100-part assemblies the fixtures write (shared products, and every part a product of its own).
+#include <BRepBndLib.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <Bnd_Box.hxx>
+#include <STEPCAFControl_Reader.hxx>
+#include <TDF_LabelSequence.hxx>
+#include <TDocStd_Document.hxx>
+#include <XCAFApp_Application.hxx>
+#include <XCAFDoc_DocumentTool.hxx>
+#include <XCAFDoc_ShapeTool.hxx>
 #include <benchmark/benchmark.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -13,6 +23,7 @@
 #include "step_first_pass.hpp"
 #include "step_fixtures.hpp"
 #include "vaw/cad_assembly.hpp"
+#include "vaw/collision/interference.hpp"
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/report/report.hpp"
@@ -65,6 +76,91 @@ fs::path tiled(bool thousand) {
 // product, 96 parts; 6: the tiled product, 1,027 parts.
 fs::path fileFor(int which) {
   return which == 0 ? sample() : which <= 2 ? manyParts(which == 2) : which <= 4 ? boltedRod(which == 4) : tiled(which == 6);
+}
+
+// The real exports kept beside the project (VAW_CAD_EXPORTS_DIR): 0 the SolidWorks rotary table, 1 the
+// Fusion 360 robot arm. Empty when they are not there.
+fs::path cadExport(int which) {
+  const fs::path f = fs::path(VAW_CAD_EXPORTS_DIR) / (which == 0 ? "Drehtisch.STEP" : "arm.step");
+  return fs::exists(f) ? f : fs::path();
+}
+
+// What Open CASCADE alone does with the file, the yardstick for vaw's open: the read, the transfer with names
+// and colours, and every product's solids meshed at the same relative deflection (a thousandth of its box's
+// diagonal) and angle vaw uses, in this process.
+void BM_CadExportOpenCascade(benchmark::State& state) {
+  const fs::path file = cadExport(static_cast<int>(state.range(0)));
+  if (file.empty()) {
+    state.SkipWithError("no real CAD exports (VAW_CAD_EXPORTS_DIR)");
+    return;
+  }
+  for (auto _ : state) {
+    STEPCAFControl_Reader reader;
+    reader.SetNameMode(true);
+    reader.SetColorMode(true);
+    reader.ReadFile(file.string().c_str());
+    Handle(TDocStd_Document) doc;
+    XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
+    reader.Transfer(doc);
+    const Handle(XCAFDoc_ShapeTool) shapes = XCAFDoc_DocumentTool::ShapeTool(doc->Main());
+    TDF_LabelSequence labels;
+    shapes->GetShapes(labels);
+    for (Standard_Integer i = 1; i <= labels.Length(); ++i) {
+      if (XCAFDoc_ShapeTool::IsAssembly(labels.Value(i))) continue;
+      const TopoDS_Shape shape = XCAFDoc_ShapeTool::GetShape(labels.Value(i));
+      Bnd_Box box;
+      BRepBndLib::Add(shape, box);
+      if (box.IsVoid()) continue;
+      BRepMesh_IncrementalMesh mesh(shape, 1e-3 * std::sqrt(box.SquareExtent()), false, 0.35, true);
+      benchmark::DoNotOptimize(mesh.IsDone());
+    }
+  }
+  state.SetLabel(file.filename().string());
+}
+
+// vaw's open of the same file, from the file to ready to assemble: the reader process (with its healing),
+// units, recognition, the base, who goes first and the layout; nothing kept from an earlier read.
+void BM_CadExportReady(benchmark::State& state) {
+  const fs::path file = cadExport(static_cast<int>(state.range(0)));
+  if (file.empty()) {
+    state.SkipWithError("no real CAD exports (VAW_CAD_EXPORTS_DIR)");
+    return;
+  }
+  for (auto _ : state) benchmark::DoNotOptimize(vaw::loadAny(file, registry()));
+  state.SetLabel(file.filename().string());
+}
+
+// Its order (docs/evaluation.md): ways home, sub-assemblies, clashes passed through.
+void BM_CadExportOrder(benchmark::State& state) {
+  const fs::path file = cadExport(static_cast<int>(state.range(0)));
+  if (file.empty()) {
+    state.SkipWithError("no real CAD exports (VAW_CAD_EXPORTS_DIR)");
+    return;
+  }
+  const vaw::Assembly a = vaw::loadAny(file, registry());
+  vaw::eval::SequencePlan plan;
+  for (auto _ : state) benchmark::DoNotOptimize(plan = vaw::eval::planSequence(a));
+  state.counters["parts"] = static_cast<double>(a.parts.size());
+  state.counters["ordered"] = static_cast<double>(plan.order.size());
+  state.SetLabel(file.filename().string());
+}
+
+// What overlaps at rest (docs/evaluation.md, "Interferences"), on a fixture (fileFor's numbering) or a real
+// export (10 + cadExport's).
+void BM_Interferences(benchmark::State& state) {
+  const int which = static_cast<int>(state.range(0));
+  const fs::path file = which >= 10 ? cadExport(which - 10) : fileFor(which);
+  if (file.empty()) {
+    state.SkipWithError("no real CAD exports (VAW_CAD_EXPORTS_DIR)");
+    return;
+  }
+  const vaw::Assembly a = vaw::loadAny(file, registry());
+  const auto poses = vaw::collision::assembledPoses(a);
+  std::size_t pairs = 0;
+  for (auto _ : state) pairs = vaw::collision::interferences(a, poses).size();
+  state.counters["parts"] = static_cast<double>(a.parts.size());
+  state.counters["pairs"] = static_cast<double>(pairs);
+  state.SetLabel(file.filename().string());
 }
 
 void BM_StepReader(benchmark::State& state) {
@@ -203,6 +299,10 @@ void BM_StepFirstPass(benchmark::State& state) {
 }
 
 BENCHMARK(BM_StepFirstPass)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_CadExportOpenCascade)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CadExportReady)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_CadExportOrder)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Interferences)->Arg(6)->Arg(10)->Arg(11)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
