@@ -316,7 +316,8 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
   Sweep sweep(assembly, world, home, options);
   // Two parts that share volume at home beyond a designed fit (a modelling error: a dowel drawn larger than
   // its hole) would each block the other at once in every way. Each comes home through the other along the
-  // ways its constraints give it, and the way says so.
+  // ways its constraints give it, and the way says so. Asked only of a pair blocked where it stands (a
+  // sweep's distance 0): parts that only touch there are blocked a tolerance on, if at all.
   std::map<std::pair<PartId, PartId>, bool> clashing;
   const auto clash = [&](PartId p, PartId q) {
     const auto key = std::minmax(p, q);
@@ -345,7 +346,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
         if (o.kind != ObjectId::Kind::Part || !inSequence[o.index]) continue;
         const auto b = sweep.block(p, o.index, d.out, d.alongAxis, length);
         if (!b) continue;
-        if (options.throughClashes && d.constraint && !b->undecided && b->distance <= options.tolerance && clash(p, o.index)) {
+        if (options.throughClashes && d.constraint && !b->undecided && b->distance <= 0.0 && clash(p, o.index)) {
           through += (through.empty() ? "" : ", ") + assembly.parts[o.index].name;
           continue;
         }
@@ -434,7 +435,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
             // Along an axis: a bearing carried up its bore slides on it (touching faces across the way are
             // dropped either way).
             const auto b = sweep.block(m, o.index, out, true, length);
-            if (!b || (options.throughClashes && !b->undecided && b->distance <= options.tolerance && clash(m, o.index))) continue;
+            if (!b || (options.throughClashes && !b->undecided && b->distance <= 0.0 && clash(m, o.index))) continue;
             if (o.index == base || stuck[o.index]) ok = false;
             else join(o.index);
           }
