@@ -5,6 +5,7 @@
 // surface vertex lies outside the exact solid's interior and within the bound beyond it, (c) the volume
 // lies between the exact one and that of the exact solid grown by the bound.
 #include <gtest/gtest.h>
+#include <regex>
 
 #include <cmath>
 #include <fstream>
@@ -226,7 +227,14 @@ TEST(SweptVolume, BadInputIsRefusedWithWhatWasExpected) {
     (void)sweep(box, {{at(0, 0, 0), at(100, 0, 0)}}, 1e-6);
     FAIL() << "a grid of that size was accepted";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("a larger voxel"), std::string::npos) << e.what();
+    // 100 m by a 1 cm box at 1 um: (1e8 x 1e4 x 1e4 / 2^32)^(1/3) = 0.13 mm per voxel at the least, a few
+    // voxels more at the border.
+    const std::string what = e.what();
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(what, m, std::regex(R"(a larger voxel \(([0-9.]+) mm or more\))"))) << what;
+    const double suggested = std::stod(m[1].str());
+    EXPECT_GE(suggested, 0.14) << e.what();
+    EXPECT_LE(suggested, 0.2) << e.what();
   }
 }
 

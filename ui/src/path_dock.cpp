@@ -20,6 +20,7 @@
 #include <QtCharts/QValueAxis>
 #include <QtConcurrent/QtConcurrentRun>
 #include <algorithm>
+#include <new>
 
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
@@ -239,7 +240,11 @@ void PathDock::sweep() {
       vaw::sim::SweptPathAndClearance both = vaw::sim::sweptVolumeAndClearance(scene, session, part, so, co);
       out.swept = std::move(both.swept);
       out.clearance = std::move(both.clearance);
-    } catch (const vaw::InputError& e) {
+    } catch (const std::bad_alloc&) {
+      // Coming back through the watcher into a slot, any exception would end the window with the user's
+      // unsaved session: each is said instead.
+      out.error = QObject::tr("Not enough memory to sweep at %1 mm voxels: a larger voxel fits.").arg(1e3 * so.voxel);
+    } catch (const std::exception& e) {  // vaw::InputError, and a grid too large for the voxel (with what fits)
       out.error = QString::fromStdString(e.what());
     }
     return out;

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -368,14 +369,35 @@ SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isom
         box.extend(Eigen::AlignedBox3d(c.array() - radius - leg.off, c.array() + radius + leg.off));
   }
   if (legs.empty()) throw std::invalid_argument("the path has no poses");
-  const Eigen::Vector3d origin = ((box.min().array() / voxel).floor() - 2.0).matrix() * voxel;
-  const Eigen::Vector3d span = ((box.max() - origin) / voxel).array().ceil() + 3.0;
-  if (!span.allFinite() || span.prod() > static_cast<double>(kMaxSweepVoxels))
+  const auto gridAt = [&](double v) {
+    const Eigen::Vector3d o = ((box.min().array() / v).floor() - 2.0).matrix() * v;
+    return std::pair{o, Eigen::Vector3d(((box.max() - o) / v).array().ceil() + 3.0)};
+  };
+  const auto grid = gridAt(voxel);
+  const Eigen::Vector3d origin = grid.first, span = grid.second;
+  // The voxel that fits, for the message, rounded up to a tenth of a millimetre as the Path panel sets it:
+  // the count goes with the cube of the voxel, the border's voxels aside, so the estimate is grown until
+  // the grid fits; the moves go at most with the voxel's inverse.
+  const auto larger = [](double m) {
+    std::ostringstream o;
+    o << "; a larger voxel (" << std::ceil(1e4 * m - 1e-9) / 10.0 << " mm or more) or a shorter span fits";
+    return o.str();
+  };
+  const auto fits = [&](double v) { return gridAt(v).second.prod() <= static_cast<double>(kMaxSweepVoxels); };
+  if (!span.allFinite() || !fits(voxel)) {
+    std::string what = "; a larger voxel or a shorter span fits";
+    if (span.allFinite()) {
+      double v = voxel * std::cbrt(span.prod() / static_cast<double>(kMaxSweepVoxels));
+      while (!fits(std::ceil(1e4 * v - 1e-9) / 1e4)) v *= 1.02;
+      what = larger(v);
+    }
     throw std::invalid_argument("the path's box needs " + std::to_string(span.prod()) + " voxels of " + std::to_string(1e3 * voxel) +
-                                " mm (at most " + std::to_string(kMaxSweepVoxels) + "); a larger voxel or a shorter span fits");
+                                " mm (at most " + std::to_string(kMaxSweepVoxels) + ")" + what);
+  }
   if (moveCount > static_cast<double>(kMaxSweepMoves))
     throw std::invalid_argument("the path needs " + std::to_string(moveCount) + " moves at " + std::to_string(1e3 * voxel) +
-                                " mm voxels (at most " + std::to_string(kMaxSweepMoves) + "); a larger voxel or a shorter span fits");
+                                " mm voxels (at most " + std::to_string(kMaxSweepMoves) + ")" +
+                                larger(1.05 * voxel * moveCount / static_cast<double>(kMaxSweepMoves)));
 
   std::vector<Move> moves;
   moves.reserve(static_cast<std::size_t>(moveCount));
