@@ -35,6 +35,9 @@ packages=(
   desktop-file-utils appstream
   # regenerating docs/states.svg from docs/states.dot
   graphviz
+  # a decimal-comma locale (de_DE.UTF-8, generated below): the tests check that what vaw writes keeps its
+  # point wherever Qt applies the user's locale
+  locales
 )
 
 missing=()
@@ -44,21 +47,31 @@ for p in "${packages[@]}"; do
   fi
 done
 
-if [ ${#missing[@]} -eq 0 ]; then
+has_locale() { locale -a 2>/dev/null | grep -qix 'de_DE.utf8'; }
+
+if [ ${#missing[@]} -eq 0 ] && has_locale; then
   echo "install-deps: all ${#packages[@]} packages present"
   exit 0
 fi
 
 if [ "$(id -u)" -ne 0 ]; then
   if command -v sudo >/dev/null 2>&1; then SUDO=sudo; else
-    echo "install-deps: need root or sudo to install: ${missing[*]}" >&2; exit 1
+    echo "install-deps: need root or sudo to install: ${missing[*]} (and the de_DE.UTF-8 locale)" >&2; exit 1
   fi
 else
   SUDO=
 fi
 
-echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
-export DEBIAN_FRONTEND=noninteractive
-$SUDO apt-get update -qq
-$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -qq
+  $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" </dev/null
+fi
+if ! has_locale; then
+  echo "install-deps: generating the de_DE.UTF-8 locale"
+  $SUDO sed -i 's/^# *\(de_DE.UTF-8 UTF-8\)/\1/' /etc/locale.gen
+  grep -qx 'de_DE.UTF-8 UTF-8' /etc/locale.gen || echo 'de_DE.UTF-8 UTF-8' | $SUDO tee -a /etc/locale.gen >/dev/null
+  $SUDO locale-gen >/dev/null
+fi
 echo "install-deps: done"

@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <array>
+#include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <locale>
 #include <map>
 #include <numbers>
 #include <optional>
@@ -215,6 +217,7 @@ std::optional<Eigen::Vector3d> upDirection(const std::string& up) {
   if (const auto axis = namedAxis(up)) return axis;
   // Three numbers, as upForFaceDown writes them.
   std::istringstream in(up);
+  in.imbue(std::locale::classic());
   Eigen::Vector3d d;
   if (!(in >> d.x() >> d.y() >> d.z())) return std::nullopt;
   in >> std::ws;
@@ -230,9 +233,15 @@ std::optional<std::string> upForFaceDown(const Assembly& a, const Eigen::Vector3
   const char* names[] = {"x", "y", "z"};
   for (int i = 0; i < 3; ++i)
     if (std::abs(std::abs(up[i]) - 1.0) < 1e-9) return std::string(up[i] > 0.0 ? "+" : "-") + names[i];
-  char text[96];
-  std::snprintf(text, sizeof text, "%.9g %.9g %.9g", up.x(), up.y(), up.z());
-  return std::string(text);
+  // to_chars: the C locale's point whatever the process's locale (Qt applies the user's, where printf would
+  // write "0,5" and upDirection's stream would not read it back).
+  std::string text;
+  for (int i = 0; i < 3; ++i) {
+    char digits[32];
+    const auto r = std::to_chars(digits, digits + sizeof digits, up[i], std::chars_format::general, 9);
+    text.append(i == 0 ? "" : " ").append(digits, r.ptr);
+  }
+  return text;
 }
 
 Eigen::Matrix3d assemblyUp(const Part& base, const Eigen::Isometry3d& basePose, const Eigen::Vector3d& assemblyCentre,

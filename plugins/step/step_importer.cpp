@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <charconv>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -241,11 +242,13 @@ class StepImporter final : public vaw::MeshImporter {
               pending.erase(0, nl + 1);
               // "progress 0.350 tessellating bracket"; anything else on stdout is Open CASCADE's.
               if (line.rfind("progress ", 0) != 0) continue;
-              char* end = nullptr;
-              const double f = std::strtod(line.c_str() + 9, &end);
-              if (end == line.c_str() + 9) continue;
+              // from_chars: the reader writes a point; strtod would read the window's locale's comma.
+              double f = 0.0;
+              const char* const last = line.data() + line.size();
+              const auto [end, err] = std::from_chars(line.data() + 9, last, f);
+              if (err != std::errc()) continue;
               fraction = std::clamp(f, 0.0, 1.0);
-              stage = *end == ' ' ? std::string(end + 1) : std::string();
+              stage = end != last && *end == ' ' ? std::string(end + 1, last) : std::string();
               report();
             }
           } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {

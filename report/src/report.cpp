@@ -1,6 +1,7 @@
 #include "vaw/report/report.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -275,9 +276,10 @@ std::string timeline(const Assembly& a, const SessionStats& s) {
 }  // namespace
 
 std::string formatNumber(double v) {
+  // to_chars: the CSV's point whatever the locale the window runs in.
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3f", v);
-  return buf;
+  const auto r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::fixed, 3);
+  return std::string(buf, r.ptr);
 }
 
 std::vector<PartRow> partRows(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions) {

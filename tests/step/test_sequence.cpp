@@ -628,3 +628,52 @@ TEST(Report, ALongOrderIsSummedUpByStepAndPicturedPerStep) {
   EXPECT_EQ(bars, kinds.size());
   EXPECT_NE(chart.find("nut-1 (\u00d75)"), std::string::npos);
 }
+
+#include <clocale>
+
+#include "vaw/cad_assembly.hpp"
+
+namespace {
+
+// The window runs in the user's locale, which Qt applies to the C library: under a decimal comma
+// ("1,5"), what vaw writes for files and reads back keeps its point. The reader's progress reaches the
+// window with its stages, a slanted up written by "Put This Face Down" is read back, the report's CSV
+// numbers have a point.
+TEST(DecimalComma, NumbersKeepTheirPoint) {
+  const char* before = std::setlocale(LC_ALL, nullptr);
+  const std::string saved = before != nullptr ? before : "C";
+  if (std::setlocale(LC_ALL, "de_DE.UTF-8") == nullptr) GTEST_SKIP() << "no de_DE.UTF-8 locale (packaging/install-deps.sh makes it)";
+  struct Restore {
+    std::string locale;
+    ~Restore() { std::setlocale(LC_ALL, locale.c_str()); }
+  } restore{saved};
+  char comma[16];
+  std::snprintf(comma, sizeof comma, "%.1f", 1.5);
+  ASSERT_STREQ(comma, "1,5") << "the locale writes a comma";
+
+  EXPECT_EQ(vaw::report::formatNumber(1.5), "1.500");
+  EXPECT_EQ(vaw::report::formatNumber(-1234.56789), "-1234.568");
+
+  const fs::path file = vaw::test::tempDir() / "decimal-comma.stp";
+  vaw::steptest::writeBoltedRod(file, {4, true, true, false, false, "AP214"});
+  double reader = 0.0;
+  std::set<std::string> stages;
+  const Assembly a = vaw::loadAny(file, vaw::test::importers(), {}, [&](double f, const std::string& stage) {
+    if (stage.find("tessellating") != std::string::npos) {
+      reader = std::max(reader, f);
+      stages.insert(stage);
+    }
+    return true;
+  });
+  EXPECT_FALSE(stages.empty()) << "the reader's stages reach the caller";
+  EXPECT_GT(reader, 0.0) << "with their fraction";
+
+  const Eigen::Vector3d slanted = Eigen::Vector3d(1, 2, 2).normalized();
+  const auto up = vaw::upForFaceDown(a, slanted);
+  ASSERT_TRUE(up.has_value());
+  EXPECT_EQ(up->find(','), std::string::npos) << *up;
+  ASSERT_TRUE(vaw::upDirection(*up).has_value()) << *up;
+  EXPECT_TRUE(vaw::validUpChoice(*up)) << *up;
+}
+
+}  // namespace
