@@ -12,7 +12,6 @@
 #include <QRegularExpression>
 #include <QScreen>
 #include <QTimer>
-#include <clocale>
 #include <cstdio>
 #include <string>
 
@@ -68,10 +67,6 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) vr = vr || std::string(argv[i]) == "--vr";
   if (vr && qEnvironmentVariableIsEmpty("QT_QPA_PLATFORM")) qputenv("QT_QPA_PLATFORM", "xcb");
   QApplication app(argc, argv);
-  // Qt applies the user's locale to the C library on Linux; the files vaw writes and reads (scenes,
-  // reports, CSV, the reader's messages) use the point, so numbers stay in the C locale while Qt's own
-  // widgets still show the user's (QLocale).
-  std::setlocale(LC_NUMERIC, "C");
   QApplication::setApplicationName(QStringLiteral("vaw"));
   QApplication::setApplicationVersion(QString::fromLatin1(vaw::kVersion));
   QApplication::setApplicationDisplayName(QStringLiteral("Virtual Assembly Workbench"));

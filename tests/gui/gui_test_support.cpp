@@ -13,6 +13,7 @@
 #include <QScopeGuard>
 #include <QTimer>
 #include <QLineEdit>
+#include <QLocale>
 #include <QMainWindow>
 #include <QMenu>
 #include <QSettings>
@@ -107,9 +108,11 @@ void typeInto(QAbstractSpinBox* box, const QString& text) {
   QLineEdit* edit = box->findChild<QLineEdit*>();
   if (edit == nullptr) return;
   QTest::keyClick(edit, Qt::Key_A, Qt::ControlModifier);
-  QTest::keyClicks(edit, text);
+  QTest::keyClicks(edit, inLocale(text));
   QTest::keyClick(edit, Qt::Key_Return);
 }
+
+QString inLocale(QString number) { return number.replace(QLatin1Char('.'), QLocale().decimalPoint()); }
 
 QPoint pointOnPart(ui::Viewport* viewport, const Assembly& assembly, PartId id, const Eigen::Isometry3d& pose) {
   // The ray caster works on Qt3D's backend copy of the camera and the transforms: let a frame render so

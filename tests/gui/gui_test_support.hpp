@@ -99,7 +99,10 @@ void moveCarriedWithMouse(ui::MainWindow& window, PartId part, const Eigen::Isom
 // The button let go where the hand is.
 void releaseWithMouse(ui::MainWindow& window);
 
-// Types `text` into a spin box: focus, select all, the keys, Return.
+// A number as a person types it in the window's locale ("0.01" is "0,01" under a decimal comma).
+QString inLocale(QString number);
+// Types `text` (a number written with a point) into a spin box as inLocale has it: focus, select all, the
+// keys, Return.
 void typeInto(QAbstractSpinBox* box, const QString& text);
 
 // A key press where the keyboard focus is, the window's menu shortcuts included. After work in the 3D view

@@ -196,7 +196,7 @@ void TestStep::coarserTessellationIsChosenAndReadAgain() {
     QVERIFY(timeout != nullptr && deflection != nullptr);
     for (const auto& [box, text] : {std::pair{timeout, QStringLiteral("120")}, std::pair{deflection, QStringLiteral("0.01")}}) {
       QTest::keyClick(box, Qt::Key_A, Qt::ControlModifier);
-      QTest::keyClicks(box, text);
+      QTest::keyClicks(box, vaw::guitest::inLocale(text));
     }
     vaw::guitest::shot(nullptr, dialog, QStringLiteral("step-settings.png"));
     // Return in a field of the form is OK.

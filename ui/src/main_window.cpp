@@ -5,6 +5,7 @@
 #include <QSettings>
 #include <QStatusBar>
 #include <QUndoStack>
+#include <clocale>
 #include <cmath>
 
 #include "vaw/paths.hpp"
@@ -28,6 +29,11 @@ namespace vaw::ui {
 
 MainWindow::MainWindow(AssemblyController& controller, QWidget* parent)
     : QMainWindow(parent), controller_(controller) {
+  // Qt applies the user's locale to the C library on Linux (a decimal comma under de_DE). The core writes
+  // and reads its numbers through it (messages, panels' texts, scenes, reports, CSV, the reader's
+  // progress), always with a point, as on the command line: the window's process keeps the C library's
+  // numbers in C, while Qt's own widgets (QLocale) still show and take the user's.
+  std::setlocale(LC_NUMERIC, "C");
   setObjectName(QStringLiteral("mainWindow"));
   setWindowTitle(tr("vaw"));
   setAcceptDrops(true);
