@@ -171,11 +171,11 @@ namespace {
 class SweptFiles {
  public:
   SweptFiles(const std::filesystem::path& dir, const TriMesh& mesh, const std::string& partName, const Assembly& a,
-             const ImporterRegistry& importers)
+             const ImporterRegistry& importers, const ExportOptions& limits)
       : dir_(dir), stl_(dir / "swept.stl"), step_(importers.exporterFor("swept.step")) {
     stl_ << binaryStl(mesh, 1.0 / toMetres(a.units), "vaw swept volume of " + partName + ", " + std::string(name(a.units)));
     stl_.finish();
-    if (step_ != nullptr) step_->write(mesh, partName + " swept", a.units, dir / ".swept.step.new");
+    if (step_ != nullptr) step_->write(mesh, partName + " swept", a.units, dir / ".swept.step.new", limits, {});
     else std::fprintf(stderr, "vaw-sim: no swept.step: no STEP writer (the STEP plugin is not installed)\n");
   }
   [[nodiscard]] bool step() const { return step_ != nullptr; }
@@ -256,7 +256,7 @@ int sweepWayHome(const SweepArgs& args, const ImporterRegistry& importers) {
   const eval::WayClearance& w = ways.front();
   const std::filesystem::path dir = outputDir(c.out);
 
-  SweptFiles swept(dir, w.swept->surface(), c.part, a, importers);
+  SweptFiles swept(dir, w.swept->surface(), c.part, a, importers, args.step);
   // clearance.csv: each part already in within reach, nearest first.
   AtomicFile csv(dir / "clearance.csv");
   csv << "part,least_mm,at_mm_out,part_x_mm,part_y_mm,part_z_mm,other_x_mm,other_y_mm,other_z_mm\n";
@@ -312,7 +312,7 @@ int sweep(const SweepArgs& args) {
     const std::string& partName = a.parts[rec.part].name;
     const std::filesystem::path dir = outputDir(args.clearance.out);
 
-    SweptFiles swept(dir, sv.mesh, partName, a, importers);
+    SweptFiles swept(dir, sv.mesh, partName, a, importers, args.step);
     AtomicFile csv(dir / "clearance.csv");
     writeSteps(csv, r, *rec.scene);
     nlohmann::json j;

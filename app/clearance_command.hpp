@@ -2,6 +2,8 @@
 #include <optional>
 #include <string>
 
+#include "vaw/importer.hpp"
+
 namespace vaw::app {
 // `vaw-sim clearance SESSION --part NAME --out DIR`: the options as parsed in vaw_sim.cpp (docs/clearance.md).
 struct ClearanceArgs {
@@ -17,6 +19,7 @@ struct SweepArgs {
   ClearanceArgs clearance;
   double voxelMm = 1.0;
   bool relativeToBase = false;
+  ExportOptions step;  // the STEP writer's time and memory limits
 };
 int sweep(const SweepArgs& args);
 }  // namespace vaw::app

@@ -408,6 +408,9 @@ int dispatch(int argc, char** argv) {
   swCmd->add_option("--threshold", sw.clearance.thresholdMm, "Closer than this is a near miss, mm (default 5)")->check(CLI::Range(0.0, 1e6));
   swCmd->add_option("--reach", sw.clearance.reachMm, "Objects never this close are left out of the table, mm (default 50)")->check(CLI::Range(0.0, 1e6));
   swCmd->add_option("--out", sw.clearance.out, "Output directory")->type_name("DIR")->required();
+  swCmd->add_option("--step-timeout", sw.step.timeoutSeconds, "Seconds the STEP writer may take (default 300)")->check(CLI::Range(0.01, 86400.0));
+  swCmd->add_option("--step-memory", sw.step.memoryMB, "The STEP writer's memory limit in MB (default: half the machine's)")
+      ->check(CLI::Range(64.0, 1e7));
   swCmd->callback([&] { command = [&] { return vaw::app::sweep(sw); }; });
 
   vaw::app::EvaluateArgs ev;

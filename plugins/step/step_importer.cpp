@@ -19,9 +19,11 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <variant>
@@ -134,6 +136,101 @@ std::string signalName(int sig) {
   return "signal " + std::to_string(sig) + (abbrev ? std::string(", SIG") + abbrev : std::string());
 }
 
+// Half the machine's memory: a child's limit unless one is set.
+double memoryLimitMB(double set) {
+  return set > 0.0 ? set : 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE)) / 1048576.0;
+}
+
+// Why a child was stopped before it ended by itself; the caller's `stopped` says it (and throws).
+enum class Stop { CannotStart, Cancelled, TimedOut };
+
+// Runs one of the plugin's children (the reader, the writer) contained: its stdin /dev/null, its stderr into
+// `errors`, its progress lines on stdout ("progress 0.350 tessellating bracket"; anything else there is Open
+// CASCADE's) passed to `progress`, which stops it by returning false; it is killed past `timeoutSeconds`, or
+// when this call ends early by an exception. The child itself dies with this process and keeps to its memory
+// limit (its --parent and --memory-limit-mb, in `args`). `stage` follows the last stage it named. Returns its
+// wait status; `stopped` is called after the child is gone and must throw.
+int runChild(const std::vector<std::string>& args, const std::filesystem::path& errors, double timeoutSeconds,
+             const vaw::ProgressFn& progress, std::string& stage, const std::function<void(Stop, const std::string&)>& stopped) {
+  std::vector<std::string> argStrings = args;
+  std::vector<char*> argv;
+  for (auto& a : argStrings) argv.push_back(a.data());
+  argv.push_back(nullptr);
+
+  int pipeFds[2];
+  if (pipe2(pipeFds, O_CLOEXEC) != 0) throw vaw::OutputError(std::string("cannot create a pipe: ") + std::strerror(errno));
+  Fd readEnd(pipeFds[0]), writeEnd(pipeFds[1]);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, writeEnd.get(), STDOUT_FILENO);
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  pid_t pid = 0;
+  const int spawned = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) {
+    stopped(Stop::CannotStart, std::strerror(spawned));
+    throw std::logic_error("runChild: `stopped` returned");
+  }
+  Child child(pid);
+  writeEnd.close();
+
+  const auto start = Clock::now();
+  double fraction = 0.0;
+  auto lastReport = Clock::now();
+  const auto stop = [&](Stop why) {
+    child.kill();
+    stopped(why, stage);
+    throw std::logic_error("runChild: `stopped` returned");
+  };
+  const auto report = [&] {
+    lastReport = Clock::now();
+    if (progress && !progress(fraction, stage)) stop(Stop::Cancelled);
+  };
+  report();
+
+  std::string pending;
+  bool open = true;
+  int status = 0;
+  bool done = false;
+  while (!done) {
+    if (open) {
+      pollfd p{readEnd.get(), POLLIN, 0};
+      const int r = poll(&p, 1, 20);
+      if (r > 0) {
+        char buf[4096];
+        const ssize_t n = ::read(readEnd.get(), buf, sizeof buf);
+        if (n > 0) {
+          pending.append(buf, static_cast<std::size_t>(n));
+          for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
+            const std::string line = pending.substr(0, nl);
+            pending.erase(0, nl + 1);
+            if (line.rfind("progress ", 0) != 0) continue;
+            // from_chars: the child writes a point; strtod would read the window's locale's comma.
+            double f = 0.0;
+            const char* const last = line.data() + line.size();
+            const auto [end, err] = std::from_chars(line.data() + 9, last, f);
+            if (err != std::errc()) continue;
+            fraction = std::clamp(f, 0.0, 1.0);
+            stage = end != last && *end == ' ' ? std::string(end + 1, last) : std::string();
+            report();
+          }
+        } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
+          open = false;
+        }
+      }
+    } else {
+      done = child.exited(status);
+      if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    if (std::chrono::duration<double>(Clock::now() - start).count() > timeoutSeconds) stop(Stop::TimedOut);
+    // Open CASCADE reports nothing during a long parse, transfer or write: ask the caller anyway, so a
+    // stop is honoured within a fifth of a second.
+    if (Clock::now() - lastReport > std::chrono::milliseconds(200)) report();
+  }
+  return status;
+}
+
 class StepImporter final : public vaw::MeshImporter {
  public:
   [[nodiscard]] std::string name() const override { return "Open CASCADE STEP"; }
@@ -175,95 +272,18 @@ class StepImporter final : public vaw::MeshImporter {
     const std::filesystem::path result = tmp.path() / "result.cbor";
     const std::filesystem::path errors = tmp.path() / "stderr.txt";
     const std::string rel = seconds(options.relativeDeflection), ang = seconds(options.angularDeflection);
-    // The reader dies with this process (--parent) and within its memory limit.
-    double memoryMB = options.readerMemoryMB;
-    if (!(memoryMB > 0.0)) memoryMB = 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE)) / 1048576.0;
-    const std::string memory = std::to_string(static_cast<long long>(memoryMB));
-    std::vector<std::string> args = {reader.string(),        name, "--out", result.string(), "--relative-deflection", rel,
-                                     "--angular-deflection", ang, "--parent", std::to_string(getpid()), "--memory-limit-mb", memory,
-                                     "--max-instances", std::to_string(static_cast<long long>(options.maxInstances))};
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-
-    int pipeFds[2];
-    if (pipe2(pipeFds, O_CLOEXEC) != 0) throw vaw::OutputError(std::string("cannot create a pipe: ") + std::strerror(errno));
-    Fd readEnd(pipeFds[0]), writeEnd(pipeFds[1]);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_adddup2(&actions, writeEnd.get(), STDOUT_FILENO);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, reader.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (spawned != 0)
-      vaw::fail(name, "", "a STEP reader that starts", "cannot start " + reader.string() + ": " + std::strerror(spawned));
-    Child child(pid);
-    writeEnd.close();
-
-    const auto start = Clock::now();
-    const auto elapsed = [&] { return std::chrono::duration<double>(Clock::now() - start).count(); };
-    double fraction = 0.0;
+    const std::string memory = std::to_string(static_cast<long long>(memoryLimitMB(options.readerMemoryMB)));
+    const std::vector<std::string> args = {reader.string(),        name, "--out", result.string(), "--relative-deflection", rel,
+                                           "--angular-deflection", ang, "--parent", std::to_string(getpid()), "--memory-limit-mb", memory,
+                                           "--max-instances", std::to_string(static_cast<long long>(options.maxInstances))};
     std::string stage = "starting the STEP reader";
-    auto lastReport = Clock::now();
-    const auto report = [&] {
-      lastReport = Clock::now();
-      if (progress && !progress(fraction, stage)) {
-        child.kill();
-        throw vaw::LoadCancelled();
-      }
-    };
-    const auto checkTime = [&] {
-      if (elapsed() > options.timeoutSeconds) {
-        child.kill();
-        vaw::fail(name, "", "a STEP file Open CASCADE reads within the time limit of " + seconds(options.timeoutSeconds) + " s",
-                  "still reading after " + seconds(options.timeoutSeconds) + " s, at \"" + stage +
-                      "\" (a large file may need longer: raise the limit with File > STEP Settings or vaw-sim --timeout S)");
-      }
-    };
-    report();
-
-    std::string pending;
-    bool open = true;
-    int status = 0;
-    bool done = false;
-    while (!done) {
-      if (open) {
-        pollfd p{readEnd.get(), POLLIN, 0};
-        const int r = poll(&p, 1, 20);
-        if (r > 0) {
-          char buf[4096];
-          const ssize_t n = ::read(readEnd.get(), buf, sizeof buf);
-          if (n > 0) {
-            pending.append(buf, static_cast<std::size_t>(n));
-            for (std::size_t nl; (nl = pending.find('\n')) != std::string::npos;) {
-              const std::string line = pending.substr(0, nl);
-              pending.erase(0, nl + 1);
-              // "progress 0.350 tessellating bracket"; anything else on stdout is Open CASCADE's.
-              if (line.rfind("progress ", 0) != 0) continue;
-              // from_chars: the reader writes a point; strtod would read the window's locale's comma.
-              double f = 0.0;
-              const char* const last = line.data() + line.size();
-              const auto [end, err] = std::from_chars(line.data() + 9, last, f);
-              if (err != std::errc()) continue;
-              fraction = std::clamp(f, 0.0, 1.0);
-              stage = end != last && *end == ' ' ? std::string(end + 1, last) : std::string();
-              report();
-            }
-          } else if (n == 0 || (errno != EINTR && errno != EAGAIN)) {
-            open = false;
-          }
-        }
-      } else {
-        done = child.exited(status);
-        if (!done) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-      }
-      checkTime();
-      // Open CASCADE reports nothing during a long parse or transfer: ask the caller anyway, so a
-      // cancel is honoured within a fifth of a second.
-      if (Clock::now() - lastReport > std::chrono::milliseconds(200)) report();
-    }
+    const int status = runChild(args, errors, options.timeoutSeconds, progress, stage, [&](Stop why, const std::string& detail) {
+      if (why == Stop::Cancelled) throw vaw::LoadCancelled();
+      if (why == Stop::CannotStart) vaw::fail(name, "", "a STEP reader that starts", "cannot start " + reader.string() + ": " + detail);
+      vaw::fail(name, "", "a STEP file Open CASCADE reads within the time limit of " + seconds(options.timeoutSeconds) + " s",
+                "still reading after " + seconds(options.timeoutSeconds) + " s, at \"" + detail +
+                    "\" (a large file may need longer: raise the limit with File > STEP Settings or vaw-sim --timeout S)");
+    });
 
     if (WIFSIGNALED(status))
       vaw::fail(name, "", "a STEP file Open CASCADE can read",
@@ -321,33 +341,35 @@ class StepExporter final : public vaw::SolidExporter {
  public:
   [[nodiscard]] std::string name() const override { return "Open CASCADE STEP"; }
   [[nodiscard]] std::vector<std::string> extensions() const override { return {"step", "stp"}; }
-  void write(const vaw::TriMesh& mesh, const std::string& solidName, vaw::LengthUnit unit, const std::filesystem::path& file) const override {
+  void write(const vaw::TriMesh& mesh, const std::string& solidName, vaw::LengthUnit unit, const std::filesystem::path& file,
+             const vaw::ExportOptions& options, const vaw::ProgressFn& progress) const override {
     const std::filesystem::path writer = pluginDir() / "vaw-step-write";
     if (access(writer.c_str(), X_OK) != 0) throw vaw::OutputError(file.string() + ": no STEP writer installed with the STEP plugin (" + writer.string() + ")");
     TempDir tmp;
     const std::filesystem::path stl = tmp.path() / "mesh.stl", errors = tmp.path() / "stderr.txt";
     vaw::writeFileAtomically(stl, vaw::binaryStl(mesh, 1.0 / vaw::toMetres(unit), "vaw solid, " + std::string(vaw::name(unit))));
     const std::filesystem::path part = file.parent_path() / ("." + file.filename().string() + ".writing");
-    std::vector<std::string> args = {writer.string(), stl.string(), "--out", part.string(), "--unit", std::string(vaw::name(unit)), "--name", solidName};
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);  // Open CASCADE's statistics
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, errors.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    pid_t pid = 0;
-    const int spawned = posix_spawn(&pid, writer.c_str(), &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (spawned != 0) throw vaw::OutputError(file.string() + ": cannot start " + writer.string() + ": " + std::strerror(spawned));
-    int status = 0;
-    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
+    const std::string memory = std::to_string(static_cast<long long>(memoryLimitMB(options.memoryMB)));
+    const std::vector<std::string> args = {writer.string(), stl.string(),  "--out",    part.string(), "--unit", std::string(vaw::name(unit)),
+                                           "--name",        solidName,     "--parent", std::to_string(getpid()), "--memory-limit-mb", memory};
     std::error_code ec;
-    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    const auto notWritten = [&](const std::string& why) {
       std::filesystem::remove(part, ec);
-      const std::string why = WIFSIGNALED(status) ? "the STEP writer died of " + signalName(WTERMSIG(status)) : lastLine(errors);
-      throw vaw::OutputError(file.string() + ": not written: " + (why.empty() ? "the STEP writer failed" : why));
+      throw vaw::OutputError(file.string() + ": not written: " + why);
+    };
+    std::string stage = "starting the STEP writer";
+    const int status = runChild(args, errors, options.timeoutSeconds, progress, stage, [&](Stop why, const std::string& detail) {
+      if (why == Stop::Cancelled) notWritten("stopped while " + detail);
+      if (why == Stop::CannotStart) notWritten("cannot start " + writer.string() + ": " + detail);
+      notWritten("still writing after " + seconds(options.timeoutSeconds) + " s, while " + detail +
+                 " (a larger voxel makes fewer faces; or raise the limit: File > STEP Settings, vaw-sim sweep --step-timeout S)");
+    });
+    if (WIFSIGNALED(status)) notWritten("the STEP writer died of " + signalName(WTERMSIG(status)) + " while " + stage);
+    if (WIFEXITED(status) && WEXITSTATUS(status) == 5)
+      notWritten(lastLine(errors) + " while " + stage + " (a larger voxel makes fewer faces; or raise the limit: File > STEP Settings, vaw-sim sweep --step-memory MB)");
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      const std::string why = lastLine(errors);
+      notWritten(why.empty() ? "the STEP writer failed" : why);
     }
     std::filesystem::rename(part, file, ec);
     if (ec) {

@@ -11,8 +11,6 @@
 #include <Standard_Failure.hxx>
 #include <Standard_OutOfMemory.hxx>
 
-#include <sys/prctl.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -27,18 +25,12 @@
 #include <string>
 #include <vector>
 
+#include "step_child.hpp"
 #include "step_reader.hpp"
 #include "step_result.hpp"
 
 using namespace vaw::step::reader;
 
-#if defined(__SANITIZE_ADDRESS__)
-#define VAW_ADDRESS_SANITIZER 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define VAW_ADDRESS_SANITIZER 1
-#endif
-#endif
 
 #ifdef VAW_ADDRESS_SANITIZER
 // Under the sanitizers (the asan preset), a SIGSEGV is left to kill the reader as it does in the default
@@ -47,14 +39,6 @@ extern "C" const char* __asan_default_options() { return "handle_segv=0"; }
 #endif
 
 namespace {
-
-// AddressSanitizer reserves terabytes of address space for its shadow memory, so under it an address-space
-// limit would end the reader at its first allocation: it reads without one there.
-#ifdef VAW_ADDRESS_SANITIZER
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 void writeResult(const std::filesystem::path& out, const json& j) {
   const std::vector<std::uint8_t> bytes = json::to_cbor(j);
@@ -127,19 +111,9 @@ int main(int argc, char** argv) {
   if (!(relative > 0.0 && relative < 1.0) || !(angular > 0.0 && angular < 3.2))
     return usage("deflections must be in (0, 1) (relative) and (0, pi] (angular, radians)");
 
-  // Ends with whoever started it, even when that one is killed: a reader spinning on a hostile file must
-  // not outlive the window or command that waits for it. The parent may be gone already by now.
-  if (parent > 0) {
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (getppid() != static_cast<pid_t>(parent)) return 6;
-  }
-  // A file that makes Open CASCADE eat memory ends the reader with a named error, not the machine's OOM
-  // killer choosing the window.
-  if (memoryMB > 0.0 && !kAddressSanitizer) {
-    const auto bytes = static_cast<rlim_t>(memoryMB * 1048576.0);
-    const rlimit limit{bytes, bytes};
-    setrlimit(RLIMIT_AS, &limit);
-  }
+  // A reader spinning on a hostile file must not outlive the window or command that waits for it; the
+  // parent may be gone already by now.
+  if (!vaw::step::containChild(parent, memoryMB)) return 6;
   const auto outOfMemory = [&] {
     std::fprintf(stderr, "it needed more memory than the reader's limit of %.0f MB\n", memoryMB);
     return 5;

@@ -3,11 +3,12 @@
 // STEP plugin runs it as a child, as it does the reader: Open CASCADE stays out of vaw's own processes
 // (docs/step.md, docs/swept-volume.md).
 //
-//   vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME]
+//   vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME] [--parent PID] [--memory-limit-mb MB]
 //
 // MESH is a binary STL in the unit given, whose triangles face outwards and share their corners (a closed
-// manifold). Exit 0: FILE written. Exit 3: it could not be; one line on stderr says why. Exit 2: bad
-// arguments.
+// manifold). Progress goes to stdout as the reader's does ("progress 0.350 making faces"). Exit 0: FILE
+// written. Exit 3: it could not be; one line on stderr says why. Exit 5: it needed more memory than its
+// limit. Exit 6: its parent was gone. Exit 2: bad arguments.
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeVertex.hxx>
@@ -28,6 +29,7 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
+#include <Standard_OutOfMemory.hxx>
 #include <gp_Pln.hxx>
 
 #include <algorithm>
@@ -35,16 +37,24 @@
 #include <cstdlib>
 #include <cstring>
 #include <exception>
+#include <new>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "step_child.hpp"
 
 namespace {
 
 [[noreturn]] void refuse(const std::string& why) {
   std::fprintf(stderr, "%s\n", why.c_str());
   std::exit(3);
+}
+
+void progress(double fraction, const std::string& stage) {
+  std::printf("progress %.3f %s\n", fraction, stage.c_str());
+  std::fflush(stdout);
 }
 
 TopoDS_Shape solidOf(const Handle(Poly_Triangulation)& mesh) {
@@ -62,7 +72,9 @@ TopoDS_Shape solidOf(const Handle(Poly_Triangulation)& mesh) {
   BRep_Builder builder;
   TopoDS_Shell shell;
   builder.MakeShell(shell);
-  for (Standard_Integer t = 1; t <= mesh->NbTriangles(); ++t) {
+  const Standard_Integer count = mesh->NbTriangles();
+  for (Standard_Integer t = 1; t <= count; ++t) {
+    if (t % 20000 == 0) progress(0.05 + 0.45 * t / count, "making faces (" + std::to_string(t) + " of " + std::to_string(count) + " triangles)");
     Standard_Integer n[3];
     mesh->Triangle(t).Get(n[0], n[1], n[2]);
     const gp_Pnt p0 = mesh->Node(n[0]), p1 = mesh->Node(n[1]), p2 = mesh->Node(n[2]);
@@ -80,6 +92,7 @@ TopoDS_Shape solidOf(const Handle(Poly_Triangulation)& mesh) {
   builder.MakeSolid(solid);
   builder.Add(solid, shell);
   // Coplanar neighbours merged into one polygon face each; their shared straight edges into one.
+  progress(0.5, "merging coplanar faces");
   ShapeUpgrade_UnifySameDomain unify(solid, Standard_True, Standard_True, Standard_False);
   unify.Build();
   return unify.Shape();
@@ -87,28 +100,46 @@ TopoDS_Shape solidOf(const Handle(Poly_Triangulation)& mesh) {
 
 }  // namespace
 
+int usage() {
+  std::fprintf(stderr, "usage: vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME] [--parent PID] [--memory-limit-mb MB]\n");
+  return 2;
+}
+
 int main(int argc, char** argv) {
   std::string in, out, unit, name = "vaw solid";
+  long parent = 0;
+  double memoryMB = 0.0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "--out" || a == "--unit" || a == "--name") && i + 1 < argc) {
-      (a == "--out" ? out : a == "--unit" ? unit : name) = argv[++i];
-    } else if (!a.empty() && a[0] != '-' && in.empty()) {
-      in = a;
-    } else {
-      std::fprintf(stderr, "usage: vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME]\n");
-      return 2;
+    try {
+      if ((a == "--out" || a == "--unit" || a == "--name") && i + 1 < argc) {
+        (a == "--out" ? out : a == "--unit" ? unit : name) = argv[++i];
+      } else if (a == "--parent" && i + 1 < argc) {
+        parent = std::stol(argv[++i]);
+      } else if (a == "--memory-limit-mb" && i + 1 < argc) {
+        memoryMB = std::stod(argv[++i]);
+      } else if (!a.empty() && a[0] != '-' && in.empty()) {
+        in = a;
+      } else {
+        return usage();
+      }
+    } catch (const std::exception&) {
+      return usage();
     }
   }
   const char* stepUnit = unit == "mm" ? "MM" : unit == "inch" ? "INCH" : unit == "m" ? "M" : nullptr;
-  if (in.empty() || out.empty() || stepUnit == nullptr) {
-    std::fprintf(stderr, "usage: vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME]\n");
-    return 2;
-  }
+  if (in.empty() || out.empty() || stepUnit == nullptr) return usage();
+  if (!vaw::step::containChild(parent, memoryMB)) return 6;
+  const auto outOfMemory = [&] {
+    std::fprintf(stderr, "it needed more memory than the writer's limit of %.0f MB\n", memoryMB);
+    return 5;
+  };
+  progress(0.0, "reading the mesh");
   try {
     const Handle(Poly_Triangulation) mesh = RWStl::ReadFile(in.c_str());
     if (mesh.IsNull() || mesh->NbTriangles() == 0) refuse(in + ": no triangles");
     const TopoDS_Shape shape = solidOf(mesh);
+    progress(0.7, "putting the solid into STEP");
     // The solid goes in as a named product, so a CAD system lists it by that name.
     Handle(TDocStd_Document) doc;
     XCAFApp_Application::GetApplication()->NewDocument("MDTV-XCAF", doc);
@@ -122,7 +153,13 @@ int main(int argc, char** argv) {
     // The unit the numbers are written in, in millimetres: the shape's own, so they are not scaled.
     writer.ChangeWriter().Model()->SetWriteLengthUnit(unit == "mm" ? 1.0 : unit == "inch" ? 25.4 : 1000.0);
     if (!writer.Transfer(doc, STEPControl_AsIs)) refuse("the solid could not be put into STEP");
+    progress(0.85, "writing the file");
     if (writer.Write(out.c_str()) != IFSelect_RetDone) refuse(out + ": cannot write");
+    progress(1.0, "done");
+  } catch (const std::bad_alloc&) {
+    return outOfMemory();
+  } catch (const Standard_OutOfMemory&) {
+    return outOfMemory();
   } catch (const Standard_Failure& e) {
     refuse(std::string("Open CASCADE: ") + (e.GetMessageString() != nullptr ? e.GetMessageString() : "failed"));
   } catch (const std::exception& e) {

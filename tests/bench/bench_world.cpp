@@ -199,7 +199,7 @@ void BM_SweptVolumeAsStepLargeGearbox(benchmark::State& state) {
     return;
   }
   const std::filesystem::path out = std::filesystem::temp_directory_path() / "vaw-bench-swept.step";
-  for (auto _ : state) step->write(sv.mesh, "gear-a1 swept", vaw::LengthUnit::Millimetre, out);
+  for (auto _ : state) step->write(sv.mesh, "gear-a1 swept", vaw::LengthUnit::Millimetre, out, {}, {});
   state.counters["triangles"] = static_cast<double>(sv.mesh.triangles.size());
   state.counters["file_MB"] = static_cast<double>(std::filesystem::file_size(out)) / 1e6;
   std::filesystem::remove(out);

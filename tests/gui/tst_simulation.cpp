@@ -849,11 +849,27 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   QCOMPARE(exported.last().at(1).toString(), QString());
   QCOMPARE(QFileInfo(target).size(), static_cast<qint64>(84 + 50 * sv.mesh.triangles.size()));
   const QString step = keep_.filePath(QStringLiteral("sleeve-swept.step"));
+  // A STEP write stopped with the panel's Stop: said, and no file.
   QTRY_VERIFY_WITH_TIMEOUT(path->exportButton()->isEnabled(), 5000);
   vaw::guitest::whenModal([step](QWidget* w) { vaw::guitest::answerFileDialog(w, step); });
   QTest::mouseClick(path->exportButton(), Qt::LeftButton);
+  QVERIFY(path->exporting());
+  QVERIFY(path->stopExportButton()->isVisible());
+  QTest::mouseClick(path->stopExportButton(), Qt::LeftButton);
+  QVERIFY(exported.wait(30000));
+  QVERIFY2(exported.last().at(1).toString().contains(QStringLiteral("not written: stopped while")), qPrintable(exported.last().at(1).toString()));
+  QVERIFY(!path->stopExportButton()->isVisible());
+  QVERIFY(!QFileInfo::exists(step));
+  // Written to the end, its stages in the status bar as it goes.
+  QTRY_VERIFY_WITH_TIMEOUT(path->exportButton()->isEnabled(), 5000);
+  QStringList stages;
+  const auto heard = connect(path, &vaw::ui::PathDock::statusMessage, this, [&stages](const QString& m) { stages << m; });
+  vaw::guitest::whenModal([step](QWidget* w) { vaw::guitest::answerFileDialog(w, step); });
+  QTest::mouseClick(path->exportButton(), Qt::LeftButton);
   QVERIFY(exported.wait(60000));
+  disconnect(heard);
   QCOMPARE(exported.last().at(1).toString(), QString());
+  QVERIFY2(!stages.filter(QStringLiteral("merging coplanar faces")).isEmpty(), qPrintable(stages.join(QStringLiteral(" | "))));
   const vaw::Assembly back = vaw::loadAny(step.toStdString(), controller_->importers());
   QCOMPARE(back.parts.size(), std::size_t{1});
   QVERIFY(std::abs(vaw::massPropertiesFromMesh(*back.parts[0].mesh, 1.0).mass - sv.volume) < 1e-6 * sv.volume);

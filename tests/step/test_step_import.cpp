@@ -10,6 +10,8 @@
 #include <numbers>
 #include <sstream>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "files.hpp"
 #include "step_fixtures.hpp"
@@ -629,7 +631,7 @@ TEST(StepExport, ASweptVolumeWrittenAsAStepSolidReadsBackWithItsVolume) {
   EXPECT_EQ(stepPlugin().exporterFor("swept.stl"), nullptr);
   for (const auto unit : {vaw::LengthUnit::Millimetre, vaw::LengthUnit::Inch}) {
     const fs::path out = vaw::test::tempDir() / ("swept-" + std::string(vaw::name(unit)) + ".step");
-    writer->write(sv.mesh, "ball swept", unit, out);
+    writer->write(sv.mesh, "ball swept", unit, out, {}, {});
     const ImportedMesh back = load(out);
     EXPECT_EQ(back.declaredUnit, unit == vaw::LengthUnit::Inch ? std::optional<std::string>("inch") : std::optional<std::string>("millimetre"));
     const auto all = instances(back);
@@ -643,11 +645,59 @@ TEST(StepExport, ASweptVolumeWrittenAsAStepSolidReadsBackWithItsVolume) {
   }
   // A folder that is not there: refused, naming the file.
   try {
-    writer->write(sv.mesh, "ball swept", vaw::LengthUnit::Millimetre, vaw::test::tempDir() / "no-such-folder" / "swept.step");
+    writer->write(sv.mesh, "ball swept", vaw::LengthUnit::Millimetre, vaw::test::tempDir() / "no-such-folder" / "swept.step", {}, {});
     FAIL() << "written into a folder that does not exist";
   } catch (const vaw::OutputError& e) {
     EXPECT_NE(std::string(e.what()).find("no-such-folder/swept.step"), std::string::npos) << e.what();
   }
+}
+
+// The writer runs as the reader does: its stages reach the caller in order, a caller that stops it or a
+// time limit passed ends it with the reason, and the file that was there stays as it was.
+TEST(StepExport, TheWriterIsHeardStoppedAndTimedOutLeavingTheFileAsItWas) {
+  const vaw::TriMesh ball = vaw::primitives::sphere(0.005, 32, 16);
+  Eigen::Isometry3d a = Eigen::Isometry3d::Identity(), b = a;
+  b.translation() = Eigen::Vector3d(0.040, 0.0, 0.0);
+  const vaw::sim::SweptVolume sv = vaw::sim::sweep(ball, {{a, b}}, 0.001);
+  const vaw::SolidExporter* writer = stepPlugin().exporterFor("swept.step");
+  ASSERT_NE(writer, nullptr);
+  const fs::path out = vaw::test::tempDir() / "swept-heard.step";
+
+  std::vector<std::pair<double, std::string>> heard;
+  writer->write(sv.mesh, "ball swept", vaw::LengthUnit::Millimetre, out, {}, [&](double f, const std::string& stage) {
+    heard.emplace_back(f, stage);
+    return true;
+  });
+  ASSERT_TRUE(fs::exists(out));
+  const auto said = [&](const std::string& what) {
+    return std::any_of(heard.begin(), heard.end(), [&](const auto& h) { return h.second.find(what) != std::string::npos; });
+  };
+  EXPECT_TRUE(said("merging coplanar faces"));
+  EXPECT_TRUE(said("writing the file"));
+  for (std::size_t i = 1; i < heard.size(); ++i) EXPECT_GE(heard[i].first, heard[i - 1].first) << heard[i].second;
+  const auto before = fs::file_size(out);
+  const auto written = fs::last_write_time(out);
+
+  // Stopped at its first word: refused with why, the file as it was, nothing half-written beside it.
+  try {
+    writer->write(sv.mesh, "ball swept", vaw::LengthUnit::Millimetre, out, {}, [](double, const std::string&) { return false; });
+    FAIL() << "a stopped write went on";
+  } catch (const vaw::OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not written: stopped while"), std::string::npos) << e.what();
+  }
+  // Past its time limit.
+  vaw::ExportOptions quick;
+  quick.timeoutSeconds = 0.01;
+  try {
+    writer->write(sv.mesh, "ball swept", vaw::LengthUnit::Millimetre, out, quick, {});
+    FAIL() << "a write past its time limit went on";
+  } catch (const vaw::OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("still writing after 0.01 s"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(fs::file_size(out), before);
+  EXPECT_EQ(fs::last_write_time(out), written);
+  for (const auto& entry : fs::directory_iterator(out.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find(".writing"), std::string::npos) << entry.path();
 }
 
 // With every build plugin loaded, a .stp file must go to this plugin, not to assimp's IFC reader.

@@ -8,8 +8,10 @@
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QLabel>
+#include <QPointer>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QSettings>
 #include <QStandardItemModel>
 #include <QTableView>
 #include <QVBoxLayout>
@@ -88,8 +90,13 @@ PathDock::PathDock(SimulationController& simulation, Viewport& viewport, const v
   export_->setToolTip(tr("The swept volume as STL or as a STEP solid, in the scene's unit and frame"));
   export_->setObjectName(QStringLiteral("pathExport"));
   export_->setEnabled(false);
+  stopExport_ = new QPushButton(tr("Stop"), body);
+  stopExport_->setObjectName(QStringLiteral("pathStopExport"));
+  stopExport_->setToolTip(tr("Stop writing the file: what was there stays"));
+  stopExport_->hide();
   buttons->addWidget(sweep_);
   buttons->addWidget(export_);
+  buttons->addWidget(stopExport_);
   left->addLayout(buttons);
   show_ = new QCheckBox(tr("Show the volume"), body);
   show_->setObjectName(QStringLiteral("pathShow"));
@@ -171,8 +178,11 @@ PathDock::PathDock(SimulationController& simulation, Viewport& viewport, const v
     simulation_.seek(simulation_.recorder().stepAt(t));
   });
   connect(&watcher_, &QFutureWatcher<Result>::finished, this, &PathDock::finished);
+  connect(stopExport_, &QPushButton::clicked, this, &PathDock::stopExport);
   connect(&exportWatcher_, &QFutureWatcher<QString>::finished, this, [this] {
     exporting_ = false;
+    stopExport_->hide();
+    busy_->setRange(0, 0);
     busy_->setVisible(working_);
     export_->setEnabled(result_.has_value());
     const QString why = exportWatcher_.result();
@@ -186,7 +196,13 @@ PathDock::~PathDock() {
   watcher_.disconnect(this);
   watcher_.waitForFinished();
   exportWatcher_.disconnect(this);
+  // A STEP write of a fine volume can take a minute: the window closing stops it instead of waiting.
+  if (exportStopped_) exportStopped_->store(true);
   exportWatcher_.waitForFinished();
+}
+
+void PathDock::stopExport() {
+  if (exporting_ && exportStopped_) exportStopped_->store(true);
 }
 
 void PathDock::setPart(std::optional<vaw::PartId> part) {
@@ -359,11 +375,33 @@ void PathDock::exportVolume(const QString& file) {
   exportFile_ = file;
   export_->setEnabled(false);
   busy_->show();
+  if (step != nullptr) {
+    busy_->setRange(0, 100);
+    busy_->setValue(0);
+    stopExport_->show();
+  }
   emit statusMessage(tr("Writing %1...").arg(file));
+  // The STEP writer is held to the limits the reader is (File > STEP Settings).
+  const QSettings settings;
+  vaw::ExportOptions limits;
+  limits.timeoutSeconds = settings.value(QStringLiteral("import/timeoutSeconds"), limits.timeoutSeconds).toDouble();
+  limits.memoryMB = settings.value(QStringLiteral("import/readerMemoryMB"), limits.memoryMB).toDouble();
+  exportStopped_ = std::make_shared<std::atomic<bool>>(false);
+  const QPointer<PathDock> self(this);
+  const vaw::ProgressFn progress = [stopped = exportStopped_, self, file](double fraction, const std::string& stage) {
+    QMetaObject::invokeMethod(
+        self, [self, file, fraction, text = QString::fromStdString(stage)] {
+          if (!self || !self->exporting_) return;
+          self->busy_->setValue(static_cast<int>(100.0 * fraction));
+          emit self->statusMessage(tr("Writing %1: %2").arg(file, text));
+        },
+        Qt::QueuedConnection);
+    return !stopped->load();
+  };
   // The worker takes its own copy of the mesh: a new sweep may replace the result meanwhile.
-  exportWatcher_.setFuture(QtConcurrent::run([mesh = result_->swept.mesh, units = a.units, partName, target, step]() -> QString {
+  exportWatcher_.setFuture(QtConcurrent::run([mesh = result_->swept.mesh, units = a.units, partName, target, step, limits, progress]() -> QString {
     try {
-      if (step != nullptr) step->write(mesh, partName + " swept", units, target);
+      if (step != nullptr) step->write(mesh, partName + " swept", units, target, limits, progress);
       else vaw::writeFileAtomically(target, vaw::binaryStl(mesh, 1.0 / vaw::toMetres(units), "vaw swept volume of " + partName + ", " + std::string(vaw::name(units))));
     } catch (const std::exception& e) {
       return QString::fromStdString(e.what());

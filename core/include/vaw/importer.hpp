@@ -117,6 +117,13 @@ class MeshImporter {
                                           const ProgressFn& progress) const = 0;
 };
 
+// What a solid's writer may take: a plugin that writes through a child process (the STEP writer) holds it
+// to these, as the reader is held to ImportOptions'.
+struct ExportOptions {
+  double timeoutSeconds = 300.0;  // the write is stopped past this, with a named error
+  double memoryMB = 0.0;          // the writer's memory limit; 0: half the machine's memory
+};
+
 // Writes a closed mesh as a solid in a format only a plugin can write (STEP, through the STEP plugin): the
 // swept volume of a path for a CAD system (docs/swept-volume.md).
 class SolidExporter {
@@ -126,14 +133,18 @@ class SolidExporter {
   // Lower-case extensions without the dot.
   [[nodiscard]] virtual std::vector<std::string> extensions() const = 0;
   // Writes `mesh` (metres; a closed, outward-facing manifold) as one solid named `solidName` to `file`,
-  // lengths in `unit`. Throws vaw::OutputError saying why when it cannot.
-  virtual void write(const TriMesh& mesh, const std::string& solidName, LengthUnit unit, const std::filesystem::path& file) const = 0;
+  // lengths in `unit`, within `options`' limits. `progress`, when given, hears how far it is and stops it by
+  // returning false. Throws vaw::OutputError saying why when it cannot (stopped, past a limit, refused);
+  // whatever was at `file` before is then left as it was.
+  virtual void write(const TriMesh& mesh, const std::string& solidName, LengthUnit unit, const std::filesystem::path& file,
+                     const ExportOptions& options, const ProgressFn& progress) const = 0;
 };
 
 // A plugin exports these two C symbols. The ABI version guards against loading a plugin built
 // against a different interface.
-// 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit; 5: the results kept
-inline constexpr int kImporterAbiVersion = 5;
+// 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit; 5: the results kept;
+// 6: the solid writer's limits and progress
+inline constexpr int kImporterAbiVersion = 6;
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();

@@ -8,6 +8,7 @@
 #include <QDockWidget>
 #include <QFutureWatcher>
 #include <QString>
+#include <atomic>
 #include <memory>
 #include <optional>
 
@@ -43,6 +44,7 @@ class PathDock : public QDockWidget {
 
   [[nodiscard]] QPushButton* sweepButton() const { return sweep_; }
   [[nodiscard]] QPushButton* exportButton() const { return export_; }
+  [[nodiscard]] QPushButton* stopExportButton() const { return stopExport_; }
   [[nodiscard]] QDoubleSpinBox* voxelBox() const { return voxel_; }
   [[nodiscard]] QDoubleSpinBox* thresholdBox() const { return threshold_; }
   [[nodiscard]] QCheckBox* relativeBox() const { return relative_; }
@@ -63,8 +65,11 @@ class PathDock : public QDockWidget {
   // Computes for the selected part over the recording so far.
   void sweep();
   // Writes the swept volume to `file`: binary STL (.stl), or a STEP solid (.step, .stp) when a plugin
-  // writes STEP, in the background. Emits exported(file, why): `why` empty when it was written.
+  // writes STEP, in the background, within the STEP settings' time and memory limits, its progress in the
+  // panel and Stop beside it. Emits exported(file, why): `why` empty when it was written.
   void exportVolume(const QString& file);
+  // Stops the write under way; nothing is left at its file but what was there.
+  void stopExport();
   [[nodiscard]] bool exporting() const { return exporting_; }
   // A new world (scene, reset, session): the last result no longer belongs to it.
   void clear();
@@ -95,6 +100,7 @@ class PathDock : public QDockWidget {
   bool exporting_ = false;
   QFutureWatcher<QString> exportWatcher_;  // the reason a write failed, empty when it did not
   QString exportFile_;
+  std::shared_ptr<std::atomic<bool>> exportStopped_;  // asked by the write under way
   std::optional<vaw::PartId> part_;
   std::optional<Result> result_;
   bool working_ = false;
@@ -107,6 +113,7 @@ class PathDock : public QDockWidget {
   QCheckBox* show_ = nullptr;
   QPushButton* sweep_ = nullptr;
   QPushButton* export_ = nullptr;
+  QPushButton* stopExport_ = nullptr;
   QProgressBar* busy_ = nullptr;
   QLabel* summary_ = nullptr;
   QTableView* table_ = nullptr;
