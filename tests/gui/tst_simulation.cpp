@@ -869,7 +869,7 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   QVERIFY(exported.wait(60000));
   disconnect(heard);
   QCOMPARE(exported.last().at(1).toString(), QString());
-  QVERIFY2(!stages.filter(QStringLiteral("merging coplanar faces")).isEmpty(), qPrintable(stages.join(QStringLiteral(" | "))));
+  QVERIFY2(!stages.filter(QStringLiteral("merging coplanar triangles")).isEmpty(), qPrintable(stages.join(QStringLiteral(" | "))));
   const vaw::Assembly back = vaw::loadAny(step.toStdString(), controller_->importers());
   QCOMPARE(back.parts.size(), std::size_t{1});
   QVERIFY(std::abs(vaw::massPropertiesFromMesh(*back.parts[0].mesh, 1.0).mass - sv.volume) < 1e-6 * sv.volume);

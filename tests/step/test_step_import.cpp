@@ -672,7 +672,7 @@ TEST(StepExport, TheWriterIsHeardStoppedAndTimedOutLeavingTheFileAsItWas) {
   const auto said = [&](const std::string& what) {
     return std::any_of(heard.begin(), heard.end(), [&](const auto& h) { return h.second.find(what) != std::string::npos; });
   };
-  EXPECT_TRUE(said("merging coplanar faces"));
+  EXPECT_TRUE(said("merging coplanar triangles"));
   EXPECT_TRUE(said("writing the file"));
   for (std::size_t i = 1; i < heard.size(); ++i) EXPECT_GE(heard[i].first, heard[i - 1].first) << heard[i].second;
   const auto before = fs::file_size(out);
