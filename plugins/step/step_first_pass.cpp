@@ -278,23 +278,32 @@ class Pass {
     }
     if (children.empty()) return;
 
-    // Depth-first post-order from the roots; a cycle is left to the reader, which names it.
+    // Depth-first post-order from the roots. A product that contains itself is refused here: skipping the
+    // count there would let a file past the instance limit, and no CAD system writes one.
     enum class Mark : std::uint8_t { None, Open, Done };
     std::unordered_map<std::string_view, Mark> mark;
     std::vector<std::string_view> order;
-    bool cycle = false;
+    const auto containsItself = [&](std::string_view node, const std::string& through) {
+      refuse(std::string(node) + " PRODUCT_DEFINITION", "an assembly tree, in which no product contains itself",
+             productName(node) + " contains itself" + through);
+    };
     for (const auto& [node, n] : usedBy) {
       if (n != 0) continue;
       std::vector<std::pair<std::string_view, std::size_t>> stack{{node, 0}};
       mark[node] = Mark::Open;
-      while (!stack.empty() && !cycle) {
+      while (!stack.empty()) {
         auto& [at, next] = stack.back();
         const auto c = children.find(at);
         if (c != children.end() && next < c->second.size()) {
           const std::string_view child = c->second[next++];
           Mark& m = mark[child];
-          if (m == Mark::Open) cycle = true;
-          else if (m == Mark::None) {
+          if (m == Mark::Open) {
+            std::string through;
+            for (auto it = std::find_if(stack.begin(), stack.end(), [&](const auto& e) { return e.first == child; }) + 1; it != stack.end(); ++it)
+              through += (through.empty() ? " through " : ", ") + productName(it->first);
+            containsItself(child, through);
+          }
+          if (m == Mark::None) {
             m = Mark::Open;
             stack.emplace_back(child, 0);
           }
@@ -304,8 +313,10 @@ class Pass {
           stack.pop_back();
         }
       }
-      if (cycle) return;
     }
+    // Products that no root reaches yet others contain: a cycle with nothing above it.
+    for (const auto& [node, kids] : children)
+      if (mark[node] == Mark::None) containsItself(node, " (a cycle no root reaches)");
     std::unordered_map<std::string_view, double> instances;
     for (auto it = order.rbegin(); it != order.rend(); ++it) {
       double& mine = instances[*it];

@@ -103,10 +103,23 @@ TEST(StepFirstPass, NestedAssembliesMultiply) {
   EXPECT_DOUBLE_EQ(firstPass(file(small)).instances, 3.0);
 }
 
-TEST(StepFirstPass, ACycleIsLeftToTheReader) {
+// A product that contains itself is refused with the products named, under a root or with none above it:
+// counting stopped there would let an instance bomb past the limit.
+TEST(StepFirstPass, AProductThatContainsItselfIsRefused) {
   std::string data = product(10, "A") + product(20, "B") + product(30, "ROOT");
   data += use(100, 32, 12) + use(101, 12, 22) + use(102, 22, 12);
-  EXPECT_NO_THROW((void)firstPass(file(data)));
+  const auto r = refusal(file(data));
+  EXPECT_EQ(r.field, "#12 PRODUCT_DEFINITION");
+  EXPECT_EQ(r.expected, "an assembly tree, in which no product contains itself");
+  EXPECT_EQ(r.found, "\"A\" (#10) contains itself through \"B\" (#20)");
+  // The cycle beside an instance bomb: refused all the same, before the bomb is counted.
+  std::string bomb = data + product(40, "BOLT");
+  for (int i = 0; i < 20000; ++i) bomb += use(200 + i, 32, 42);
+  EXPECT_NE(refusal(file(bomb)).found.find("contains itself"), std::string::npos);
+  // With no root above it.
+  std::string rootless = product(10, "A") + product(20, "B") + use(101, 12, 22) + use(102, 22, 12);
+  const auto lone = refusal(file(rootless));
+  EXPECT_NE(lone.found.find("contains itself (a cycle no root reaches)"), std::string::npos) << lone.found;
 }
 
 TEST(StepFirstPass, CommentOrLineBreakBeforeTheEqualsSignIsRewritten) {
