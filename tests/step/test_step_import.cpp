@@ -553,6 +553,17 @@ TEST_F(StepImport, AnUnchangedFileReopensWithoutBeingReadAgain) {
   EXPECT_TRUE(seen.has("tessellating bracket"));
 }
 
+// A cache folder that cannot be made: the file opens all the same, with a warning that it is not kept.
+TEST_F(StepImport, AnUnwritableCacheFolderOpensTheFileWithAWarning) {
+  vaw::ImportOptions options;
+  options.resultCache = file("bracket.stp") / "cache";  // under a file: no folder can be made there
+  const ImportedMesh m = load(file("bracket.stp"), options);
+  expectSameAssembly(bracket(), m);
+  EXPECT_TRUE(std::any_of(m.warnings.begin(), m.warnings.end(),
+                          [](const std::string& w) { return w.find("not kept for reopening without reading again") != std::string::npos; }))
+      << (m.warnings.empty() ? std::string("no warnings") : m.warnings.front());
+}
+
 TEST_F(StepImport, ADamagedOrHalfWrittenKeptReadIsReadAfresh) {
   vaw::ImportOptions options;
   options.resultCache = file("cache-damaged");
