@@ -59,9 +59,11 @@ int usage(const char* why) {
   return 2;
 }
 
-// A fault on purpose, for the tests of what the plugin makes of each (VAW_STEP_READER_FAULT, never set in
-// use): "crash" dies of SIGSEGV, "hang" never finishes, "memory" allocates until its limit stops it,
-// "truncate" writes half a result and reports success.
+#ifdef VAW_FAULT_HOOKS
+// A fault on purpose, for the tests of what the plugin makes of each (VAW_STEP_READER_FAULT), only in the
+// reader built for the tests (plugins/step/CMakeLists.txt, VAW_FAULT_HOOKS), never in the installed one:
+// "crash" dies of SIGSEGV, "hang" never finishes, "memory" allocates until its limit stops it, "truncate"
+// writes half a result and reports success.
 void injectFault(const std::string& fault, const std::filesystem::path& out) {
   if (fault == "crash") std::raise(SIGSEGV);
   if (fault == "hang")
@@ -80,6 +82,7 @@ void injectFault(const std::string& fault, const std::filesystem::path& out) {
     std::exit(0);
   }
 }
+#endif
 
 }  // namespace
 
@@ -119,7 +122,9 @@ int main(int argc, char** argv) {
     return 5;
   };
   try {
+#ifdef VAW_FAULT_HOOKS
     if (const char* fault = std::getenv("VAW_STEP_READER_FAULT")) injectFault(fault, out);
+#endif
     Reader reader(relative, angular, limits);
     json result = reader.read(file, std::filesystem::absolute(out).parent_path());
     progress(0.97, "writing the result");

@@ -286,10 +286,10 @@ void TestSequence::withoutBaseSaysWhy() {
 // A long session (16 minutes at 1 kHz, the most a session file holds) in the window: File > Export Report
 // replays it off the GUI thread, so a row clicked in the Sequence panel meanwhile selects its part at once,
 // and Stop in the report's progress window ends it with nothing written. The replay is paced for the test
-// (VAW_REPORT_PACE_MS, 30 ms at each of its hundred progress reports), so that it runs for seconds on
+// (MainWindow::setReportPace, 30 ms at each of its hundred progress reports), so that it runs for seconds on
 // any machine.
 void TestSequence::reportOfALongSessionKeepsTheWindowAnsweringAndStops() {
-  qputenv("VAW_REPORT_PACE_MS", "30");
+  window_->setReportPace(30);
   QTemporaryDir out;
   QVERIFY(out.isValid());
   vaw::sim::Session longSession;
@@ -330,7 +330,7 @@ void TestSequence::reportOfALongSessionKeepsTheWindowAnsweringAndStops() {
   QCOMPARE(window_->statusBar()->currentMessage(), QStringLiteral("Stopped: no report written to ") + dir);
   QVERIFY(!QFile::exists(dir + QStringLiteral("/report.html")));
   QVERIFY(window_->reportProgress() == nullptr);
-  qunsetenv("VAW_REPORT_PACE_MS");
+  window_->setReportPace(0);
 }
 
 QTEST_MAIN(TestSequence)

@@ -381,9 +381,7 @@ void MainWindow::writeReport(const QString& dir) {
   connect(reportProgress_, &QProgressDialog::canceled, this, [cancel] { cancel->store(true); });
   // The replay takes most of the time when there is a session; the pictures the rest.
   const double replayShare = recordedOn ? 0.8 : 0.0;
-  // For the GUI tests only: a pause at each progress report, so that a short replay lasts long enough to
-  // click during it on any machine.
-  const int pace = qEnvironmentVariableIntValue("VAW_REPORT_PACE_MS");
+  const int pace = reportPaceMs_;  // setReportPace: the GUI tests
   const auto stage = [this, cancel, pace](double from, double share) -> vaw::ProgressFn {
     return [this, cancel, from, share, pace](double fraction, const std::string& what) {
       if (pace > 0) std::this_thread::sleep_for(std::chrono::milliseconds(pace));

@@ -102,6 +102,9 @@ class MainWindow : public QMainWindow {
   // True from the moment a report is started until what came of it was said.
   [[nodiscard]] bool writingReport() const { return reportCancel_ != nullptr; }
   [[nodiscard]] QProgressDialog* reportProgress() const { return reportProgress_; }
+  // A pause at each of the report's progress reports, so that a short replay lasts long enough for a GUI
+  // test to click during it on any machine; 0 (no pause) unless a test sets it.
+  void setReportPace(int milliseconds) { reportPaceMs_ = milliseconds; }
   // File > Save: the scene with the tuning as edited (vaw::sim::saveScene); Save As when the file opened is
   // not a scene. Returns false, having said why, when nothing was saved.
   bool save();
@@ -214,6 +217,7 @@ class MainWindow : public QMainWindow {
   QFutureWatcher<ReportOutcome> reportWatcher_;
   std::shared_ptr<std::atomic<bool>> reportCancel_;  // set while a report is being written
   QProgressDialog* reportProgress_ = nullptr;
+  int reportPaceMs_ = 0;
   QString reportHeading_;
   bool blinded_ = false;
   std::vector<QDockWidget*> closedForBlinding_;
