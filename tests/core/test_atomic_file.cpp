@@ -4,7 +4,6 @@
 
 #include <sys/resource.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <csignal>
@@ -12,6 +11,7 @@
 #include <sstream>
 #include <string>
 
+#include "child_process.hpp"
 #include "files.hpp"
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
@@ -29,19 +29,6 @@ std::string read(const std::filesystem::path& p) {
 
 std::size_t entries(const std::filesystem::path& dir) {
   return static_cast<std::size_t>(std::distance(std::filesystem::directory_iterator(dir), std::filesystem::directory_iterator()));
-}
-
-// Runs `body` in a child process and returns its exit status (or 128 + the signal that ended it).
-template <class F>
-int inChild(F body) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    body();
-    ::_exit(0);
-  }
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 }  // namespace
@@ -76,7 +63,7 @@ TEST(AtomicFile, AbandonedWriteLeavesThePreviousFile) {
 TEST(AtomicFile, KilledWriterLeavesThePreviousFile) {
   const auto dir = test::tempDir();
   const auto file = test::writeFile(dir / "trajectories.csv", "good\n");
-  const int status = inChild([&] {
+  const int status = test::inChild([&] {
     AtomicFile f(file);
     f << std::string(300000, 'p');
     ::kill(::getpid(), SIGKILL);
@@ -88,7 +75,7 @@ TEST(AtomicFile, KilledWriterLeavesThePreviousFile) {
 TEST(AtomicFile, FileSizeLimitIsANamedErrorAndLeavesThePreviousFile) {
   const auto dir = test::tempDir();
   const auto file = test::writeFile(dir / "trajectories.csv", "good\n");
-  const int status = inChild([&] {
+  const int status = test::inChild([&] {
     std::signal(SIGXFSZ, SIG_IGN);  // as vaw-sim does: the write fails instead of killing the process
     const rlimit limit{4096, 4096};
     ::setrlimit(RLIMIT_FSIZE, &limit);

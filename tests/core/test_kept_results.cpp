@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -15,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "child_process.hpp"
 #include "files.hpp"
 #include "vaw/error.hpp"
 #include "vaw/kept_results.hpp"
@@ -29,23 +29,6 @@ std::size_t filesIn(const std::filesystem::path& dir) {
   std::size_t n = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++n;
   return n;
-}
-
-// `body` in a child process; finish() waits for it and gives its exit status (or 128 + the signal).
-template <class F>
-pid_t start(F body) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    body();
-    ::_exit(0);
-  }
-  return pid;
-}
-
-int finish(pid_t pid) {
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 }  // namespace
@@ -104,9 +87,9 @@ TEST(KeptResults, TwoProcessesWritingOneEntryAtOnceNeverMixIt) {
       }
     };
   };
-  const pid_t a = start(writer('a')), b = start(writer('b'));
-  EXPECT_EQ(finish(a), 0) << "3: not found, 4: torn, 5: foreign, 6: mixed";
-  EXPECT_EQ(finish(b), 0) << "3: not found, 4: torn, 5: foreign, 6: mixed";
+  const pid_t a = test::startChild(writer('a')), b = test::startChild(writer('b'));
+  EXPECT_EQ(test::finishChild(a), 0) << "3: not found, 4: torn, 5: foreign, 6: mixed";
+  EXPECT_EQ(test::finishChild(b), 0) << "3: not found, 4: torn, 5: foreign, 6: mixed";
   EXPECT_EQ(filesIn(dir), 1u) << "no temporary file left";
 }
 
@@ -116,7 +99,7 @@ TEST(KeptResults, AFullDiskKeepsNothingHalfWritten) {
   const std::filesystem::path dir = test::tempDir() / "kept";
   const KeptResults kept(dir, 64 << 20);
   kept.store("before", filled(1000, 9));
-  const int status = finish(start([&] {
+  const int status = test::inChild([&] {
     std::signal(SIGXFSZ, SIG_IGN);
     const rlimit limit{65536, 65536};
     ::setrlimit(RLIMIT_FSIZE, &limit);
@@ -126,7 +109,7 @@ TEST(KeptResults, AFullDiskKeepsNothingHalfWritten) {
       ::_exit(std::string(e.what()).find("File too large") != std::string::npos ? 42 : 1);
     }
     ::_exit(2);
-  }));
+  });
   EXPECT_EQ(status, 42);
   EXPECT_FALSE(kept.find("big").has_value());
   EXPECT_EQ(kept.find("before"), filled(1000, 9));

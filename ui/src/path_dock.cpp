@@ -384,8 +384,8 @@ void PathDock::exportVolume(const QString& file) {
   // The STEP writer is held to the limits the reader is (File > STEP Settings).
   const QSettings settings;
   vaw::ExportOptions limits;
-  limits.timeoutSeconds = settings.value(QStringLiteral("import/timeoutSeconds"), limits.timeoutSeconds).toDouble();
-  limits.memoryMB = settings.value(QStringLiteral("import/readerMemoryMB"), limits.memoryMB).toDouble();
+  limits.timeoutSeconds = settings.value(QStringLiteral("import/timeoutSeconds"), limits.timeoutSeconds).value<double>();
+  limits.memoryMB = settings.value(QStringLiteral("import/readerMemoryMB"), limits.memoryMB).value<double>();
   exportStopped_ = std::make_shared<std::atomic<bool>>(false);
   const QPointer<PathDock> self(this);
   const vaw::ProgressFn progress = [stopped = exportStopped_, self, file](double fraction, const std::string& stage) {
