@@ -1,6 +1,8 @@
 #include "vaw/kept_results.hpp"
 
 #include <dlfcn.h>
+#include <elf.h>
+#include <link.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -12,6 +14,7 @@
 #include <iterator>
 #include <sstream>
 #include <system_error>
+#include <vector>
 
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
@@ -119,18 +122,92 @@ void KeptResults::trim() const {
   }
 }
 
-std::uint64_t buildIdentity(const void* code) {
-  Dl_info info{};
-  if (dladdr(code, &info) == 0 || info.dli_fname == nullptr) return 0;
+namespace {
+
+// The GNU build-id note (the linker's --build-id, Debian's default) among the notes in [p, end), hashed; 0
+// when there is none.
+std::uint64_t buildIdNote(const unsigned char* p, const unsigned char* end) {
+  const auto aligned = [](std::size_t n) { return (n + 3) & ~std::size_t{3}; };
+  while (p + sizeof(ElfW(Nhdr)) <= end) {
+    ElfW(Nhdr) note;
+    std::memcpy(&note, p, sizeof note);
+    const unsigned char* name = p + sizeof note;
+    const unsigned char* desc = name + aligned(note.n_namesz);
+    if (desc + note.n_descsz > end) return 0;
+    if (note.n_type == NT_GNU_BUILD_ID && note.n_namesz == 4 && std::memcmp(name, "GNU", 4) == 0 && note.n_descsz > 0)
+      return fnv1a(desc, note.n_descsz);
+    p = desc + aligned(note.n_descsz);
+  }
+  return 0;
+}
+
+// A file's size and time stamp, for a build without a build-id.
+std::uint64_t sizeAndTime(const std::filesystem::path& file) {
   std::error_code ec;
-  const std::filesystem::path file = info.dli_fname;
   const auto size = std::filesystem::file_size(file, ec);
   if (ec) return 0;
   const auto written = std::filesystem::last_write_time(file, ec);
   if (ec) return 0;
-  std::uint64_t h = fnv1a(&size, sizeof size);
+  const std::uint64_t h = fnv1a(&size, sizeof size);
   const auto ticks = static_cast<std::int64_t>(written.time_since_epoch().count());
   return fnv1a(&ticks, sizeof ticks, h);
+}
+
+}  // namespace
+
+std::uint64_t buildIdentity(const void* code) {
+  // The build-id of the loaded object that holds `code`, read from its notes in memory.
+  struct Search {
+    std::uintptr_t code;
+    std::uint64_t id = 0;
+    bool found = false;
+  } search{reinterpret_cast<std::uintptr_t>(code)};
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, std::size_t, void* data) {
+        auto& s = *static_cast<Search*>(data);
+        bool holds = false;
+        for (int i = 0; i < info->dlpi_phnum && !holds; ++i) {
+          const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+          const std::uintptr_t from = info->dlpi_addr + ph.p_vaddr;
+          holds = ph.p_type == PT_LOAD && s.code >= from && s.code < from + ph.p_memsz;
+        }
+        if (!holds) return 0;
+        s.found = true;
+        for (int i = 0; i < info->dlpi_phnum && s.id == 0; ++i) {
+          const ElfW(Phdr)& ph = info->dlpi_phdr[i];
+          if (ph.p_type != PT_NOTE) continue;
+          const auto* notes = reinterpret_cast<const unsigned char*>(info->dlpi_addr + ph.p_vaddr);
+          s.id = buildIdNote(notes, notes + ph.p_memsz);
+        }
+        return 1;
+      },
+      &search);
+  if (search.id != 0) return search.id;
+  Dl_info info{};
+  if (dladdr(code, &info) == 0 || info.dli_fname == nullptr) return 0;
+  return sizeAndTime(info.dli_fname);
+}
+
+std::uint64_t buildIdentity(const std::filesystem::path& program) {
+  // The notes of a 64-bit ELF file, read through its program headers.
+  std::ifstream in(program, std::ios::binary);
+  ElfW(Ehdr) header{};
+  if (in.read(reinterpret_cast<char*>(&header), sizeof header) && std::memcmp(header.e_ident, ELFMAG, SELFMAG) == 0 &&
+      header.e_ident[EI_CLASS] == ELFCLASS64 && header.e_phentsize == sizeof(ElfW(Phdr))) {
+    for (int i = 0; i < header.e_phnum; ++i) {
+      ElfW(Phdr) ph{};
+      in.seekg(static_cast<std::streamoff>(header.e_phoff + static_cast<std::size_t>(i) * sizeof ph));
+      if (!in.read(reinterpret_cast<char*>(&ph), sizeof ph)) break;
+      if (ph.p_type != PT_NOTE || ph.p_filesz > (1u << 20)) continue;
+      std::vector<unsigned char> notes(ph.p_filesz);
+      const auto at = in.tellg();
+      in.seekg(static_cast<std::streamoff>(ph.p_offset));
+      if (!in.read(reinterpret_cast<char*>(notes.data()), static_cast<std::streamsize>(notes.size()))) break;
+      in.seekg(at);
+      if (const std::uint64_t id = buildIdNote(notes.data(), notes.data() + notes.size())) return id;
+    }
+  }
+  return sizeAndTime(program);
 }
 
 }  // namespace vaw

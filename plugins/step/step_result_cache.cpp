@@ -4,11 +4,11 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
-#include <system_error>
 #include <vector>
 
 #include "vaw/error.hpp"
 #include "vaw/hash.hpp"
+#include "vaw/kept_results.hpp"
 
 #include "step_result.hpp"
 
@@ -39,11 +39,7 @@ std::string resultKey(const std::filesystem::path& file, const ImportOptions& op
   h = mix(options.angularDeflection, h);
   h = mix(options.maxInstances, h);
   // Another build of the reader may read the same file differently.
-  std::error_code ec;
-  const auto readerSize = std::filesystem::file_size(reader, ec);
-  h = mix(ec ? std::uintmax_t{0} : readerSize, h);
-  const auto readerTime = std::filesystem::last_write_time(reader, ec);
-  h = mix(ec ? std::int64_t{0} : static_cast<std::int64_t>(readerTime.time_since_epoch().count()), h);
+  h = mix(buildIdentity(reader), h);
   return hashText(h);
 }
 

@@ -3,6 +3,7 @@
 // nothing half-written and never pass a wrong result off as kept.
 #include <gtest/gtest.h>
 
+#include <dlfcn.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -128,4 +129,27 @@ TEST(KeptResults, AFolderThatCannotBeMadeIsANamedErrorAndNothingFound) {
   } catch (const OutputError& e) {
     EXPECT_NE(std::string(e.what()).find("not-a-folder/kept"), std::string::npos) << e.what();
   }
+}
+
+// A build stands in a key by its build-id: the same read from the loaded library and from its file, another
+// for another program, so that a rebuilt one computes anew.
+TEST(KeptResults, ABuildIsKnownByItsBuildId) {
+  const auto inCore = static_cast<std::uint64_t (*)(const void*)>(&buildIdentity);
+  const std::uint64_t core = buildIdentity(reinterpret_cast<const void*>(inCore));
+  EXPECT_NE(core, 0u);
+  Dl_info info{};
+  ASSERT_NE(dladdr(reinterpret_cast<const void*>(inCore), &info), 0);
+  EXPECT_EQ(buildIdentity(std::filesystem::path(info.dli_fname)), core) << info.dli_fname;
+  // This test program is another build; a copy of the library with its time stamp changed is the same.
+  const std::uint64_t here = buildIdentity(reinterpret_cast<const void*>(&filled));
+  EXPECT_NE(here, 0u);
+  EXPECT_NE(here, core);
+  const std::filesystem::path copy = test::tempDir() / "copy.so";
+  std::filesystem::copy_file(info.dli_fname, copy);
+  std::filesystem::last_write_time(copy, std::filesystem::file_time_type::clock::now() + std::chrono::hours(1));
+  EXPECT_EQ(buildIdentity(copy), core);
+  // A file with no build-id (not a program) stands by its size and time stamp.
+  const std::filesystem::path text = test::writeFile(test::tempDir() / "not-a-program", "x");
+  EXPECT_NE(buildIdentity(text), 0u);
+  EXPECT_NE(buildIdentity(text), core);
 }

@@ -39,8 +39,11 @@ class KeptResults {
   std::uint64_t limit_;
 };
 
-// The size and time stamp of the file that holds `code` (a function of a library or program), standing
-// for its build in a key: a rebuilt library computes anew. 0 when it cannot be found.
+// What stands for a build in a key, so that a rebuilt library or program computes anew: the GNU build-id
+// (the linker's --build-id, a hash of what it linked) of the loaded object that holds `code` (a function
+// of a library or program), or of the program file `program`; the file's size and time stamp where there
+// is no build-id. 0 when neither can be found.
 std::uint64_t buildIdentity(const void* code);
+std::uint64_t buildIdentity(const std::filesystem::path& program);
 
 }  // namespace vaw
