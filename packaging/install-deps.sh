@@ -9,6 +9,8 @@ packages=(
   build-essential cmake ninja-build pkg-config file
   # core libraries (zlib: the evaluation report's PNG pictures)
   libeigen3-dev libfcl-dev libassimp-dev nlohmann-json3-dev libcli11-dev zlib1g-dev
+  # a CAD file's bytes hashed (XXH3) for the scene that refers to it and the reads kept for reopening
+  libxxhash-dev
   # STEP import (the Open CASCADE 7.6 plugin): XDE reader, modelling, meshing
   libocct-data-exchange-dev libocct-ocaf-dev libocct-modeling-algorithms-dev libocct-modeling-data-dev
   libocct-foundation-dev libocct-visualization-dev

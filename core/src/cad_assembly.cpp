@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -12,6 +13,8 @@
 #include <limits>
 #include <locale>
 #include <map>
+#include <memory>
+#include <new>
 #include <numbers>
 #include <optional>
 #include <set>
@@ -30,6 +33,8 @@
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/primitives.hpp"
 #include "vaw/scene_loader.hpp"
+
+#include <xxhash.h>
 
 namespace vaw {
 
@@ -609,18 +614,34 @@ std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std:
   return solid;
 }
 
-std::string fileContentHash(const std::filesystem::path& file) {
+namespace {
+
+// Every byte of `file` to `add`, a megabyte at a time.
+template <class Add>
+void eachBlock(const std::filesystem::path& file, Add add) {
   std::ifstream in(file, std::ios::binary);
   if (!in) fail(file.string(), "", "a readable file", "cannot open it");
-  std::uint64_t h = kFnvOffset;
-  std::vector<char> buf(1 << 16);
+  std::vector<char> buf(1 << 20);
   while (in) {
     in.read(buf.data(), static_cast<std::streamsize>(buf.size()));
-    h = fnv1a(buf.data(), static_cast<std::size_t>(in.gcount()), h);
+    add(buf.data(), static_cast<std::size_t>(in.gcount()));
   }
-  char text[32];
-  std::snprintf(text, sizeof text, "fnv1a64:%016llx", static_cast<unsigned long long>(h));
-  return text;
+  if (in.bad()) fail(file.string(), "", "a file that can be read to its end", std::strerror(errno));
+}
+
+}  // namespace
+
+std::string fileContentHash(const std::filesystem::path& file) {
+  const std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), &XXH3_freeState);
+  if (!state || XXH3_64bits_reset(state.get()) != XXH_OK) throw std::bad_alloc();
+  eachBlock(file, [&](const char* data, std::size_t n) { XXH3_64bits_update(state.get(), data, n); });
+  return "xxh3:" + hashText(XXH3_64bits_digest(state.get()));
+}
+
+std::string fileContentHashFnv(const std::filesystem::path& file) {
+  std::uint64_t h = kFnvOffset;
+  eachBlock(file, [&](const char* data, std::size_t n) { h = fnv1a(data, n, h); });
+  return "fnv1a64:" + hashText(h);
 }
 
 Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress,
@@ -629,7 +650,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   Assembly a;
   a.source = file;
   a.cadFile = file;
-  a.cadHash = fileContentHash(file);
+  a.cadHash = imported.contentHash.empty() ? fileContentHash(file) : imported.contentHash;
   a.name = imported.root.name.empty() ? file.stem().string() : imported.root.name;
   a.units = LengthUnit::Metre;
   a.categorySettings = options.categories;

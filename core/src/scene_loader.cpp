@@ -227,7 +227,9 @@ class SceneReader {
     // The saved constraints are relative to the saved base: with another one they are found anew.
     const bool rebased = options_.cadBase && (!cad.has("base") || cad.get("base").string() != *options_.cadBase);
     if (auto cons = root.opt("constraints"); cons && !rebased) {
-      if (savedHash == assembly_.cadHash) {
+      // A scene saved before file hashes were XXH3 holds FNV-1a's: that file is hashed again the old way.
+      const bool unchanged = savedHash == assembly_.cadHash || (savedHash.starts_with("fnv1a64:") && savedHash == fileContentHashFnv(cadFile));
+      if (unchanged) {
         assembly_.constraints.clear();
         readConstraints(*cons);
       } else {

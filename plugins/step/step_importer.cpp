@@ -31,6 +31,7 @@
 
 #include "vaw/error.hpp"
 #include "vaw/atomic_file.hpp"
+#include "vaw/cad_assembly.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/mesh_export.hpp"
 #include "vaw/kept_results.hpp"
@@ -252,15 +253,19 @@ class StepImporter final : public vaw::MeshImporter {
 
     // An unchanged file read before with the same settings is not read again.
     const std::optional<vaw::KeptResults> cache = vaw::KeptResults::under(options.resultCache, options.resultCacheMB, "step-results");
-    std::string key;
+    std::string key, content;  // content: the file's hash, handed on so that it is hashed once per open
     if (cache) {
       if (progress && !progress(0.0, "checking whether " + file.filename().string() + " was read before")) throw vaw::LoadCancelled();
-      key = vaw::step::resultKey(file, options, reader);
+      content = vaw::fileContentHash(file);
+      key = vaw::step::resultKey(content, options, reader);
       if (auto kept = cache->find(key)) {
         if (progress && !progress(0.5, "opening " + file.filename().string() + " as read before (unchanged)")) throw vaw::LoadCancelled();
         try {
           auto r = vaw::step::parseResult(*kept);
-          if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) return std::move(*assembly);
+          if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) {
+            assembly->contentHash = content;
+            return std::move(*assembly);
+          }
         } catch (const vaw::step::MalformedResult&) {
           // Intact on disk yet unreadable (a result of another format under a colliding key): read afresh.
         }
@@ -318,6 +323,7 @@ class StepImporter final : public vaw::MeshImporter {
     try {
       auto r = readResult();
       if (auto* assembly = std::get_if<vaw::ImportedMesh>(&r)) {
+        assembly->contentHash = content;
         if (cache) {
           try {
             cache->store(key, bytes);

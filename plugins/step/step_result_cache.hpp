@@ -10,9 +10,8 @@
 
 namespace vaw::step {
 
-// Reads the whole file; throws vaw::InputError naming the file when it cannot. `reader`'s size and time
-// stamp stand for its build.
-[[nodiscard]] std::string resultKey(const std::filesystem::path& file, const ImportOptions& options,
+// `contentHash`: the file's bytes hashed (vaw::fileContentHash); `reader`'s build stands by its build-id.
+[[nodiscard]] std::string resultKey(const std::string& contentHash, const ImportOptions& options,
                                     const std::filesystem::path& reader);
 
 }  // namespace vaw::step

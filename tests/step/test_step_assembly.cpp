@@ -4,7 +4,9 @@
 // nut onto a stud, refused before its stud). The files are written by the fixtures with Open CASCADE.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <numbers>
 #include <set>
 #include <sstream>
@@ -14,6 +16,7 @@
 #include "files.hpp"
 #include "step_fixtures.hpp"
 #include "vaw/constraint_recognition.hpp"
+#include "vaw/cad_assembly.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene_file.hpp"
 #include "vaw/sim/world.hpp"
@@ -191,6 +194,28 @@ TEST(StepAssembly, ASavedSceneReopensIdenticallyAndNoticesAChangedFile) {
   }
   for (PartId id = 0; id < a.parts.size(); ++id) EXPECT_TRUE(b.parts[id].pose.isApprox(a.parts[id].pose, 1e-12));
   EXPECT_EQ(vaw::sim::Scene::build(b)->contentHash(), vaw::sim::Scene::build(Assembly(a))->contentHash());
+
+  // The file is known by the XXH3 hash of its bytes; a scene saved when it was FNV-1a's still matches.
+  EXPECT_EQ(a.cadHash, vaw::fileContentHash(file));
+  EXPECT_TRUE(a.cadHash.starts_with("xxh3:")) << a.cadHash;
+  const auto hashWarned = [](const Assembly& x) {
+    return std::any_of(x.warnings.begin(), x.warnings.end(), [](const auto& w) { return w.field == "cad.hash"; });
+  };
+  EXPECT_FALSE(hashWarned(b));
+  std::string text;
+  {
+    std::ifstream in(scene);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const auto withHash = [&](const std::string& hash) {
+    std::string t = text;
+    t.replace(t.find(a.cadHash), a.cadHash.size(), hash);
+    const fs::path older = file.parent_path() / "bolted-bracket-older.vaw.json";
+    std::ofstream(older) << t;
+    return vaw::loadAny(older, vaw::test::importers());
+  };
+  EXPECT_FALSE(hashWarned(withHash(vaw::fileContentHashFnv(file))));
+  EXPECT_TRUE(hashWarned(withHash("fnv1a64:0123456789abcdef")));
 
   // The file changes on disk: the scene still opens, with a warning that names the hash.
   { std::ofstream(file, std::ios::app) << "\n"; }

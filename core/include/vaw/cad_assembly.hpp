@@ -32,8 +32,10 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
 // returned in `centroid` so that the part can be placed where it was.
 std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std::string& product, Eigen::Vector3d& centroid);
 
-// "fnv1a64:" and the 16 hex digits of the FNV-1a hash of the file's bytes; throws InputError naming it.
+// "xxh3:" and the 16 hex digits of the XXH3 64-bit hash of the file's bytes; throws InputError naming it.
 std::string fileContentHash(const std::filesystem::path& file);
+// The same as scenes saved before XXH3 wrote it: "fnv1a64:" and FNV-1a's (read to compare, never written).
+std::string fileContentHashFnv(const std::filesystem::path& file);
 
 // The part a fitter builds the assembly on (docs/step.md, "The base"): the part the assembly stands on.
 // For each way down (the file's -z and -y first, as CAD systems model Z or Y up; the other four where

@@ -100,6 +100,9 @@ struct ImportedMesh {
   // "inch". The geometry is then already converted to metres.
   std::optional<std::string> declaredUnit;
   std::string format;  // e.g. "STEP AP214", for the part panel and notes
+  // The file's bytes hashed (vaw::fileContentHash), when the importer read them all anyway: the file is
+  // then not hashed a second time for the scene that refers to it.
+  std::string contentHash;
   // True when the nodes are a CAD assembly (solids and locations), not meshes.
   [[nodiscard]] bool isCad() const;
 };
