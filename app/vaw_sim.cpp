@@ -66,14 +66,6 @@ nlohmann::json interferenceJson(const vaw::Assembly& a, const std::vector<vaw::c
   return out;
 }
 
-// The faces that look like a fit and were not taken, at the assembled poses (docs/step.md, "Near misses").
-std::vector<vaw::NearMiss> nearMissesOf(const vaw::Assembly& a) {
-  std::vector<vaw::RecognitionPart> parts;
-  const auto poses = vaw::collision::assembledPoses(a);
-  for (const auto& p : a.parts) parts.push_back({p.cad, poses[p.id]});
-  return vaw::nearMisses(parts);
-}
-
 nlohmann::json nearMissJson(const vaw::Assembly& a, const std::vector<vaw::NearMiss>& misses) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& m : misses)
@@ -271,7 +263,7 @@ int inspect(const InspectArgs& args) {
     const auto checked = std::chrono::steady_clock::now();
     if (!a.cadFile.empty()) overlaps = vaw::collision::interferences(a, vaw::collision::assembledPoses(a));
     if (args.timings) timings.emplace_back("interferences at rest", std::chrono::duration<double>(std::chrono::steady_clock::now() - checked).count());
-    const std::vector<vaw::NearMiss> misses = a.cadFile.empty() ? std::vector<vaw::NearMiss>{} : nearMissesOf(a);
+    const std::vector<vaw::NearMiss> misses = vaw::nearMisses(a);
     if (args.json) {
       nlohmann::json j = toJson(a, fits);
       if (!a.cadFile.empty()) {

@@ -1,5 +1,7 @@
 #include "vaw/constraint_recognition.hpp"
 
+#include "vaw/collision/interference.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -12,6 +14,7 @@
 #include <tuple>
 
 #include "collision/geometry2d.hpp"
+#include "vaw/collision/interference.hpp"
 #include "vaw/fits.hpp"
 
 namespace vaw {
@@ -433,6 +436,14 @@ std::vector<NearMiss> nearMisses(const std::vector<RecognitionPart>& parts, cons
       }
   }
   return out;
+}
+
+std::vector<NearMiss> nearMisses(const Assembly& assembly) {
+  if (assembly.cadFile.empty()) return {};
+  const std::vector<Eigen::Isometry3d> poses = collision::assembledPoses(assembly);
+  std::vector<RecognitionPart> parts;
+  for (const Part& p : assembly.parts) parts.push_back({p.cad, poses[p.id]});
+  return nearMisses(parts);
 }
 
 std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol,

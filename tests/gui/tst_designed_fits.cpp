@@ -10,6 +10,7 @@
 #include <QLabel>
 #include <QMenu>
 #include <QSignalSpy>
+#include <QStandardItemModel>
 #include <QTableView>
 #include <QtTest>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "step_fixtures.hpp"
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/docks.hpp"
+#include "vaw/ui/constraints_dock.hpp"
 #include "vaw/ui/interference_dock.hpp"
 #include "vaw/ui/main_window.hpp"
 #include "vaw/ui/scene_tree_model.hpp"
@@ -43,6 +45,7 @@ class TestDesignedFits : public QObject {
   void cleanupTestCase();
 
   void aCapScrewGoesHomeThroughItsTappedHole();
+  void anOversizedDowelIsANearMissInTheConstraintsPanel();
   void aBearingIsOneUnitUntilTakenApart();
   void theRotaryTableOpensAndShowsWhereItsThreadIs();
 
@@ -111,6 +114,9 @@ void TestDesignedFits::aCapScrewGoesHomeThroughItsTappedHole() {
   vaw::ui::InterferenceDock* dock = window_->interferenceDock();
   QTRY_VERIFY_WITH_TIMEOUT(!dock->checking() && dock->model()->rowCount() == 6, 20000);
   QVERIFY2(dock->hint()->text().startsWith(QStringLiteral("0 clash")), qPrintable(dock->hint()->text()));
+  // Every fit taken: no near miss in the Constraints panel.
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->constraintsDock()->findingNearMisses(), 20000);
+  QCOMPARE(window_->constraintsDock()->nearMissModel()->rowCount(), 0);
 
   // As a fitter: the dowels pressed into the base, the bracket over them, a cap screw into its counterbore
   // and on down through its thread at the tap drill: home, PLACED.
@@ -134,6 +140,33 @@ void TestDesignedFits::aCapScrewGoesHomeThroughItsTappedHole() {
   QVERIFY(std::abs(std::abs(shown.direction.z()) - 1.0) < 1e-6);
   QTest::qWait(200);
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-cap-screw-home.png"));
+}
+
+// The dowel drawn 0.3 mm larger than its hole: no fit of any kind, so no constraint; the Constraints panel
+// says why under its table, and a row clicked selects the dowel.
+void TestDesignedFits::anOversizedDowelIsANearMissInTheConstraintsPanel() {
+  const QString file = QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-clash-%1.stp").arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeFastenedBlock(file.toStdString(), {.clash = true});
+  open(file);
+  QFile::remove(file);
+  vaw::ui::ConstraintsDock* dock = window_->constraintsDock();
+  dock->show();
+  dock->raise();
+  QTRY_VERIFY_WITH_TIMEOUT(!dock->findingNearMisses() && dock->nearMissModel()->rowCount() == 2, 20000);
+  for (int row = 0; row < 2; ++row) {
+    const QString parts = dock->nearMissModel()->index(row, 0).data().toString();
+    const QString why = dock->nearMissModel()->index(row, 2).data().toString();
+    QVERIFY2(parts.endsWith(QStringLiteral("and dowel-1")), qPrintable(parts));
+    QCOMPARE(dock->nearMissModel()->index(row, 1).data().toString(), QStringLiteral("insert"));
+    QVERIFY2(why.contains(QStringLiteral("0.3 mm larger in radius than the bore")), qPrintable(why));
+  }
+  QVERIFY2(dock->findChild<QLabel*>(QStringLiteral("nearMissTitle"))->text().startsWith(QStringLiteral("2 near misses")),
+           qPrintable(dock->findChild<QLabel*>(QStringLiteral("nearMissTitle"))->text()));
+  QTableView* view = dock->nearMissView();
+  QTest::mouseClick(view->viewport(), Qt::LeftButton, {}, view->visualRect(dock->nearMissModel()->index(0, 2)).center());
+  QTRY_COMPARE_WITH_TIMEOUT(window_->viewport()->selectedPart(), std::optional<PartId>(part("dowel-1")), 2000);
+  QTest::qWait(200);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-near-miss.png"));
 }
 
 void TestDesignedFits::aBearingIsOneUnitUntilTakenApart() {

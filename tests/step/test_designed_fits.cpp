@@ -18,6 +18,7 @@
 #include "files.hpp"
 #include "step_fixtures.hpp"
 #include "vaw/collision/interference.hpp"
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/fits.hpp"
 #include "vaw/report/report.hpp"
@@ -188,8 +189,19 @@ TEST(FastenedBlockClash, AClashIsMeasuredShownAndPassedThroughWithANote) {
   const fs::path file = vaw::test::tempDir() / "fastened-clash.stp";
   vaw::steptest::writeFastenedBlock(file, {false, false, true});
   const Assembly a = load(file);
-  // The dowel drawn 0.3 mm too large in radius is no press fit, so no insert.
+  // The dowel drawn 0.3 mm too large in radius is no press fit, so no insert; but a near miss in both its
+  // holes, with the test that refused it and its measure.
   EXPECT_EQ(insertBetween(a, "dowel-1", "base"), nullptr);
+  const std::vector<vaw::NearMiss> misses = vaw::nearMisses(a);
+  ASSERT_EQ(misses.size(), 2u);
+  for (const vaw::NearMiss& m : misses) {
+    EXPECT_EQ(a.parts[m.b].name, "dowel-1");
+    EXPECT_TRUE(a.parts[m.a].name == "base" || a.parts[m.a].name == "bracket") << a.parts[m.a].name;
+    EXPECT_EQ(m.type, vaw::Constraint::Type::Insert);
+    // r 3.3 in the base's r 3 hole and the bracket's r 3.01.
+    EXPECT_NEAR(m.value, a.parts[m.a].name == "base" ? 0.3e-3 : 0.29e-3, 1e-7) << m.why;
+    EXPECT_NE(m.why.find("0.3 mm larger in radius than the bore"), std::string::npos) << m.why;
+  }
   const auto all = vaw::collision::interferences(a, vaw::collision::assembledPoses(a));
   const Interference* clash = overlapOf(all, a, "base", "dowel-1");
   ASSERT_NE(clash, nullptr);

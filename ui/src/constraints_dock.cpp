@@ -10,11 +10,13 @@
 #include <QMenu>
 #include <QPushButton>
 #include <QShortcut>
+#include <QStandardItemModel>
 #include <QStatusBar>
 #include <QTableView>
 #include <QTreeView>
 #include <QUndoStack>
 #include <QVBoxLayout>
+#include <QtConcurrent/QtConcurrentRun>
 #include <algorithm>
 #include <cmath>
 
@@ -294,7 +296,32 @@ ConstraintsDock::ConstraintsDock(AssemblyController& controller, SimulationContr
   hint_->setWordWrap(true);
   buttons->addWidget(hint_, 1);
   layout->addLayout(buttons);
+  nearTitle_ = new QLabel(body);
+  nearTitle_->setObjectName(QStringLiteral("nearMissTitle"));
+  nearTitle_->setToolTip(tr("Coaxial cylinders or facing planes that a test refused as a fit: a constraint you may have "
+                            "expected and why it is not there"));
+  layout->addWidget(nearTitle_);
+  near_ = new QStandardItemModel(0, 3, this);
+  near_->setHorizontalHeaderLabels({tr("Parts"), tr("Kind"), tr("Not taken because")});
+  nearView_ = new QTableView(body);
+  nearView_->setObjectName(QStringLiteral("nearMissView"));
+  nearView_->setModel(near_);
+  nearView_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  nearView_->setSelectionMode(QAbstractItemView::SingleSelection);
+  nearView_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  nearView_->verticalHeader()->hide();
+  nearView_->horizontalHeader()->setSectionResizeMode(QHeaderView::ResizeToContents);
+  nearView_->horizontalHeader()->setStretchLastSection(true);
+  nearView_->setMaximumHeight(4 * (nearView_->fontMetrics().height() + 8));
+  layout->addWidget(nearView_);
   setWidget(body);
+  connect(&nearWatcher_, &QFutureWatcher<NearMisses>::finished, this, &ConstraintsDock::showNearMisses);
+  // A row selects its first part, as a row of the constraints does.
+  connect(nearView_->selectionModel(), &QItemSelectionModel::currentRowChanged, this, [this](const QModelIndex& current) {
+    if (!current.isValid()) return;
+    const QVariant part = near_->index(current.row(), 0).data(Qt::UserRole);
+    if (part.isValid()) viewport_.selectPart(static_cast<vaw::PartId>(part.toULongLong()));
+  });
 
   connect(accept_, &QPushButton::clicked, this, &ConstraintsDock::acceptSelected);
   connect(reject_, &QPushButton::clicked, this, &ConstraintsDock::rejectSelected);
@@ -323,7 +350,46 @@ ConstraintsDock::ConstraintsDock(AssemblyController& controller, SimulationContr
   updateButtons();
 }
 
+ConstraintsDock::~ConstraintsDock() {
+  nearWatcher_.disconnect(this);
+  nearWatcher_.waitForFinished();
+}
+
+void ConstraintsDock::showNearMisses() {
+  const NearMisses found = nearWatcher_.result();
+  if (found.scene != controller_.scene()) return;  // another scene since: its own search follows
+  const vaw::Assembly& a = found.scene->assembly();
+  near_->removeRows(0, near_->rowCount());
+  for (const vaw::NearMiss& m : found.misses) {
+    auto* parts = new QStandardItem(tr("%1 and %2").arg(str(a.parts[m.a].name), str(a.parts[m.b].name)));
+    parts->setData(QVariant::fromValue<qulonglong>(m.b), Qt::UserRole);
+    near_->appendRow({parts, new QStandardItem(str(vaw::name(m.type))), new QStandardItem(str(m.why))});
+  }
+  nearTitle_->setText(found.misses.empty() ? tr("No near misses: every pair of coaxial cylinders and facing planes is a fit or apart.")
+                                           : tr("%1 near miss%2: faces that look like a fit and were not taken")
+                                                 .arg(found.misses.size())
+                                                 .arg(found.misses.size() == 1 ? QString() : QStringLiteral("es")));
+}
+
 void ConstraintsDock::assemblyLoaded() {
+  // The near misses of a CAD assembly, looked for off the window's thread (recognition's tests again, on
+  // every pair whose boxes meet).
+  near_->removeRows(0, near_->rowCount());
+  nearTitle_->clear();
+  if (const auto scene = controller_.scene(); scene && !scene->assembly().cadFile.empty()) {
+    nearTitle_->setText(tr("Looking for near misses..."));
+    nearWatcher_.waitForFinished();
+    nearWatcher_.setFuture(QtConcurrent::run([scene] {
+      NearMisses out;
+      out.scene = scene;
+      try {
+        out.misses = vaw::nearMisses(scene->assembly());
+      } catch (const std::exception&) {
+        // Only a hint beside the constraints: without it the panel says nothing about near misses.
+      }
+      return out;
+    }));
+  }
   const QStringList keep = controller_.currentPath() == keepFrom_ ? keepSelected_ : QStringList();
   keepFrom_ = controller_.currentPath();
   // Another scene (or this one rebuilt) may not have the parts the first face was picked on.

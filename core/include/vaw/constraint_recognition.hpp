@@ -82,6 +82,8 @@ struct NearMiss {
 // 1 degree and max(0.5 mm, a tenth of the smaller radius) of each other; nearly facing: normals within 1
 // degree of opposed, the planes within 0.5 mm, their faces over each other by more than an edge.
 std::vector<NearMiss> nearMisses(const std::vector<RecognitionPart>& parts, const RecognitionTolerances& tol = {});
+// Those of a CAD assembly's parts where they end up (collision::assembledPoses); none for other assemblies.
+std::vector<NearMiss> nearMisses(const Assembly& assembly);
 
 // The area common to two planar faces that lie in one plane (face A's triangles against face B's), m^2.
 double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b,

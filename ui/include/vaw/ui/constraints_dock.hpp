@@ -4,9 +4,12 @@
 // whole list before and after, applied by giving AssemblyController a new scene (setConstraints), so
 // Ctrl+Z, the window's unsaved mark and File > Save all work on it. The selected row's geometry is drawn in
 // the viewport on its partner. "Add from faces" makes a constraint from a face picked in the viewport on each
-// of two parts. The dock also gives the scene tree its "Make this the base" menu.
+// of two parts. Below, the near misses of a CAD assembly (faces that look like a fit and were not taken, with
+// the test that refused each and its measure), found in the background. The dock also gives the scene tree
+// its "Make this the base" menu.
 #include <QAbstractTableModel>
 #include <QDockWidget>
+#include <QFutureWatcher>
 #include <QStringList>
 #include <QUndoCommand>
 #include <functional>
@@ -16,12 +19,14 @@
 #include <vector>
 
 #include "vaw/assembly.hpp"
+#include "vaw/constraint_recognition.hpp"
 #include "vaw/sim/scene.hpp"
 
 class QLabel;
 class QMenu;
 class QPushButton;
 class QShortcut;
+class QStandardItemModel;
 class QTableView;
 class QUndoStack;
 
@@ -85,6 +90,9 @@ class ConstraintsDock : public QDockWidget {
  public:
   ConstraintsDock(AssemblyController& controller, SimulationController& simulation, Viewport& viewport, QUndoStack& undoStack,
                   QWidget* parent = nullptr);
+  ~ConstraintsDock() override;
+  ConstraintsDock(const ConstraintsDock&) = delete;
+  ConstraintsDock& operator=(const ConstraintsDock&) = delete;
   [[nodiscard]] ConstraintsModel* model() const { return model_; }
   [[nodiscard]] QTableView* view() const { return view_; }
   [[nodiscard]] QPushButton* acceptButton() const { return accept_; }
@@ -94,6 +102,10 @@ class ConstraintsDock : public QDockWidget {
   // What the panel says about picking faces, and what a refused edit was refused for.
   [[nodiscard]] QLabel* hint() const { return hint_; }
   [[nodiscard]] bool pickingFaces() const { return picking_; }
+  // The near misses: a row each (parts, kind, why), and whether they are still being looked for.
+  [[nodiscard]] QTableView* nearMissView() const { return nearView_; }
+  [[nodiscard]] QStandardItemModel* nearMissModel() const { return near_; }
+  [[nodiscard]] bool findingNearMisses() const { return nearWatcher_.isRunning(); }
 
   // Gives the scene tree a context menu with "Make this the base" on a part.
   void attachBaseMenu(SceneDock* scene);
@@ -125,6 +137,7 @@ class ConstraintsDock : public QDockWidget {
   void facePicked(vaw::PartId part, const Eigen::Vector3d& at);
   void addFromFaces(vaw::PartId partA, std::size_t faceA, vaw::PartId partB, std::size_t faceB);
   void tell(const QString& message);
+  void showNearMisses();
 
   AssemblyController& controller_;
   SimulationController& simulation_;
@@ -138,6 +151,14 @@ class ConstraintsDock : public QDockWidget {
   QPushButton* addFromFaces_ = nullptr;
   QShortcut* cancelPicking_ = nullptr;
   QLabel* hint_ = nullptr;
+  QLabel* nearTitle_ = nullptr;
+  QTableView* nearView_ = nullptr;
+  QStandardItemModel* near_ = nullptr;
+  struct NearMisses {
+    std::shared_ptr<const vaw::sim::Scene> scene;  // the scene they were found in
+    std::vector<vaw::NearMiss> misses;
+  };
+  QFutureWatcher<NearMisses> nearWatcher_;
   // Kept across the rebuild an edit causes: the names of the rows selected, and the file they belong to.
   QStringList keepSelected_;
   QString keepFrom_;
