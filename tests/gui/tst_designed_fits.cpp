@@ -9,6 +9,7 @@
 #include <QHeaderView>
 #include <QLabel>
 #include <QMenu>
+#include <QPushButton>
 #include <QSignalSpy>
 #include <QStandardItemModel>
 #include <QTableView>
@@ -167,6 +168,16 @@ void TestDesignedFits::anOversizedDowelIsANearMissInTheConstraintsPanel() {
   QTRY_COMPARE_WITH_TIMEOUT(window_->viewport()->selectedPart(), std::optional<PartId>(part("dowel-1")), 2000);
   QTest::qWait(200);
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-near-miss.png"));
+
+  // An edit of the table (a constraint rejected) leaves the geometry as it was: the near misses stay, not
+  // looked for again.
+  QTableView* table = dock->view();
+  QTest::mouseClick(table->viewport(), Qt::LeftButton, {}, table->visualRect(dock->model()->index(0, 0)).center());
+  const int before = dock->model()->rowCount();
+  QTest::mouseClick(dock->rejectButton(), Qt::LeftButton);
+  QTRY_COMPARE_WITH_TIMEOUT(dock->model()->rowCount(), before - 1, 5000);
+  QVERIFY(!dock->findingNearMisses());
+  QCOMPARE(dock->nearMissModel()->rowCount(), 2);
 }
 
 void TestDesignedFits::aBearingIsOneUnitUntilTakenApart() {

@@ -355,33 +355,27 @@ ConstraintsDock::~ConstraintsDock() {
   nearWatcher_.waitForFinished();
 }
 
-void ConstraintsDock::showNearMisses() {
-  const NearMisses found = nearWatcher_.result();
-  if (found.scene != controller_.scene()) return;  // another scene since: its own search follows
-  const vaw::Assembly& a = found.scene->assembly();
-  near_->removeRows(0, near_->rowCount());
-  for (const vaw::NearMiss& m : found.misses) {
-    auto* parts = new QStandardItem(tr("%1 and %2").arg(str(a.parts[m.a].name), str(a.parts[m.b].name)));
-    parts->setData(QVariant::fromValue<qulonglong>(m.b), Qt::UserRole);
-    near_->appendRow({parts, new QStandardItem(str(vaw::name(m.type))), new QStandardItem(str(m.why))});
-  }
-  nearTitle_->setText(found.misses.empty() ? tr("No near misses: every pair of coaxial cylinders and facing planes is a fit or apart.")
-                                           : tr("%1 near miss%2: faces that look like a fit and were not taken")
-                                                 .arg(found.misses.size())
-                                                 .arg(found.misses.size() == 1 ? QString() : QStringLiteral("es")));
+QString ConstraintsDock::nearMissKey(const vaw::Assembly& a) {
+  return QStringLiteral("%1|%2|%3|%4|%5")
+      .arg(str(a.cadFile.string()), str(a.cadHash), str(a.cadUp), a.base ? QString::number(*a.base) : QString())
+      .arg(a.parts.size());
 }
 
-void ConstraintsDock::assemblyLoaded() {
-  // The near misses of a CAD assembly, looked for off the window's thread (recognition's tests again, on
-  // every pair whose boxes meet).
+void ConstraintsDock::showNearMisses() {
+  if (nearWatcher_.future().isValid() && nearWatcher_.future().isFinished() && nearWatcher_.future().resultCount() > 0)
+    nearFound_ = nearWatcher_.result();
   near_->removeRows(0, near_->rowCount());
   nearTitle_->clear();
-  if (const auto scene = controller_.scene(); scene && !scene->assembly().cadFile.empty()) {
+  const vaw::Assembly* a = model_->assembly();
+  if (a == nullptr || a->cadFile.empty()) return;
+  const QString key = nearMissKey(*a);
+  if (!nearFound_ || nearFound_->of != key) {
+    // Looked for once per geometry, one search at a time: a search for another assembly ends first.
     nearTitle_->setText(tr("Looking for near misses..."));
-    nearWatcher_.waitForFinished();
-    nearWatcher_.setFuture(QtConcurrent::run([scene] {
+    if (nearWatcher_.isRunning()) return;
+    nearWatcher_.setFuture(QtConcurrent::run([scene = controller_.scene(), key] {
       NearMisses out;
-      out.scene = scene;
+      out.of = key;
       try {
         out.misses = vaw::nearMisses(scene->assembly());
       } catch (const std::exception&) {
@@ -389,7 +383,20 @@ void ConstraintsDock::assemblyLoaded() {
       }
       return out;
     }));
+    return;
   }
+  for (const vaw::NearMiss& m : nearFound_->misses) {
+    auto* parts = new QStandardItem(tr("%1 and %2").arg(str(a->parts[m.a].name), str(a->parts[m.b].name)));
+    parts->setData(QVariant::fromValue<qulonglong>(m.b), Qt::UserRole);
+    near_->appendRow({parts, new QStandardItem(str(vaw::name(m.type))), new QStandardItem(str(m.why))});
+  }
+  nearTitle_->setText(nearFound_->misses.empty() ? tr("No near misses: every pair of coaxial cylinders and facing planes is a fit or apart.")
+                                                 : tr("%1 near miss%2: faces that look like a fit and were not taken")
+                                                       .arg(nearFound_->misses.size())
+                                                       .arg(nearFound_->misses.size() == 1 ? QString() : QStringLiteral("es")));
+}
+
+void ConstraintsDock::assemblyLoaded() {
   const QStringList keep = controller_.currentPath() == keepFrom_ ? keepSelected_ : QStringList();
   keepFrom_ = controller_.currentPath();
   // Another scene (or this one rebuilt) may not have the parts the first face was picked on.
@@ -412,6 +419,9 @@ void ConstraintsDock::assemblyLoaded() {
     }
   }
   selectionChanged();
+  // The near misses of a CAD assembly: recognition's tests again on every pair whose boxes meet, off the
+  // window's thread, once per geometry (an edit of the table keeps them).
+  showNearMisses();
 }
 
 std::vector<int> ConstraintsDock::selectedRows() const {

@@ -155,10 +155,14 @@ class ConstraintsDock : public QDockWidget {
   QTableView* nearView_ = nullptr;
   QStandardItemModel* near_ = nullptr;
   struct NearMisses {
-    std::shared_ptr<const vaw::sim::Scene> scene;  // the scene they were found in
+    QString of;  // nearMissKey of the assembly they were found in
     std::vector<vaw::NearMiss> misses;
   };
+  // What near misses depend on (the file's geometry, the base, the parts), not the constraints: an edit in
+  // the table does not look for them again.
+  [[nodiscard]] static QString nearMissKey(const vaw::Assembly& a);
   QFutureWatcher<NearMisses> nearWatcher_;
+  std::optional<NearMisses> nearFound_;  // the last found
   // Kept across the rebuild an edit causes: the names of the rows selected, and the file they belong to.
   QStringList keepSelected_;
   QString keepFrom_;
