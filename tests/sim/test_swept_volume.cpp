@@ -236,6 +236,24 @@ TEST(SweptVolume, BadInputIsRefusedWithWhatWasExpected) {
     EXPECT_GE(suggested, 0.14) << e.what();
     EXPECT_LE(suggested, 0.2) << e.what();
   }
+  // A grid within the limit but not within the memory a sweep may use: refused before anything is allocated,
+  // with the voxel that fits that memory, which then sweeps.
+  const std::uint64_t inOneMB = sweepVoxelsInMemory(1.0);
+  EXPECT_EQ(inOneMB, 1048576u * 8 / 3);
+  EXPECT_EQ(sweepVoxelsInMemory(1e9), kMaxSweepVoxels);
+  const std::vector<std::vector<Eigen::Isometry3d>> path = {{at(0, 0, 0), at(0.2, 0, 0)}};
+  try {
+    (void)sweep(box, path, 0.0001, inOneMB);
+    FAIL() << "a grid of more than a megabyte was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("in the memory a sweep may use"), std::string::npos) << what;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(what, m, std::regex(R"(a larger voxel \(([0-9.]+) mm or more\))"))) << what;
+    const SweptVolume fitted = sweep(box, path, 1e-3 * std::stod(m[1].str()), inOneMB);
+    EXPECT_GT(fitted.voxels, 0u);
+    EXPECT_LE(static_cast<std::uint64_t>(fitted.dims.cast<double>().prod()), inOneMB);
+  }
 }
 
 namespace {

@@ -1,5 +1,7 @@
 #include "vaw/sim/swept_volume.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -304,7 +306,15 @@ TriMesh SweptVolume::surface() const {
   return m;
 }
 
-SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel) {
+std::uint64_t sweepVoxelsInMemory(double memoryMB) {
+  const double bytes = memoryMB > 0.0 ? memoryMB * 1048576.0
+                                      : 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  const double voxels = bytes * 8.0 / 3.0;
+  return voxels >= static_cast<double>(kMaxSweepVoxels) ? kMaxSweepVoxels : static_cast<std::uint64_t>(std::max(voxels, 0.0));
+}
+
+SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel, std::uint64_t maxVoxels) {
+  maxVoxels = std::min(maxVoxels, kMaxSweepVoxels);
   if (!(voxel > 0.0) || !std::isfinite(voxel)) throw std::invalid_argument("the voxel must be a positive length, not " + std::to_string(voxel));
   if (mesh.vertices.empty() || mesh.triangles.empty()) throw std::invalid_argument("the mesh to sweep has no triangles");
   const Eigen::AlignedBox3d local = mesh.bounds();
@@ -383,16 +393,17 @@ SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isom
     o << "; a larger voxel (" << std::ceil(1e4 * m - 1e-9) / 10.0 << " mm or more) or a shorter span fits";
     return o.str();
   };
-  const auto fits = [&](double v) { return gridAt(v).second.prod() <= static_cast<double>(kMaxSweepVoxels); };
+  const auto fits = [&](double v) { return gridAt(v).second.prod() <= static_cast<double>(maxVoxels); };
   if (!span.allFinite() || !fits(voxel)) {
     std::string what = "; a larger voxel or a shorter span fits";
     if (span.allFinite()) {
-      double v = voxel * std::cbrt(span.prod() / static_cast<double>(kMaxSweepVoxels));
+      double v = voxel * std::cbrt(span.prod() / static_cast<double>(std::max<std::uint64_t>(maxVoxels, 1)));
       while (!fits(std::ceil(1e4 * v - 1e-9) / 1e4)) v *= 1.02;
       what = larger(v);
     }
+    const std::string why = maxVoxels < kMaxSweepVoxels ? " in the memory a sweep may use" : "";
     throw std::invalid_argument("the path's box needs " + std::to_string(span.prod()) + " voxels of " + std::to_string(1e3 * voxel) +
-                                " mm (at most " + std::to_string(kMaxSweepVoxels) + ")" + what);
+                                " mm (at most " + std::to_string(maxVoxels) + why + ")" + what);
   }
   if (moveCount > static_cast<double>(kMaxSweepMoves))
     throw std::invalid_argument("the path needs " + std::to_string(moveCount) + " moves at " + std::to_string(1e3 * voxel) +
@@ -503,7 +514,7 @@ class PathPoses {
     // The part's collision mesh is what it occupies in the simulation: the same one the clearance measures.
     SweptVolume sv;
     try {
-      sv = sweep(*a_.parts[part_].mesh, runs_, options_.voxel);
+      sv = sweep(*a_.parts[part_].mesh, runs_, options_.voxel, sweepVoxelsInMemory(options_.memoryMB));
     } catch (const std::invalid_argument& e) {
       fail(file_, "voxel", "a grid vaw can hold", e.what());
     }

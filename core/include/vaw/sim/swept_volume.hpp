@@ -49,14 +49,20 @@ inline constexpr std::uint64_t kMaxSweepMoves = 20'000'000;
 // Sweeps `mesh` (a closed mesh in its own frame) through each run of poses (mesh frame -> the result's
 // frame); within a run the part moves from pose to pose with its centre on a straight line and its
 // rotation turning the shortest way, and every pose in between is in the result. Throws std::invalid_argument for a voxel that is
-// not a positive finite length, no poses, a non-finite pose, or a grid over kMaxSweepVoxels or a path
-// of more than kMaxSweepMoves moves.
-SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel);
+// not a positive finite length, no poses, a non-finite pose, or a grid over `maxVoxels` (at most
+// kMaxSweepVoxels) or a path of more than kMaxSweepMoves moves, naming the voxel that would fit.
+SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel,
+                  std::uint64_t maxVoxels = kMaxSweepVoxels);
+
+// The most voxels a grid may hold in `memoryMB` (0: half the machine's memory): three bits a voxel while
+// the sweep works (the marks, the outside, the result), and never more than kMaxSweepVoxels.
+std::uint64_t sweepVoxelsInMemory(double memoryMB);
 
 struct SweptVolumeOptions {
   double voxel = 0.001;             // m
   bool relativeToBase = false;      // the path in the base's frame, placed where the base is at the first step
   std::optional<double> from, to;   // s: the span; unset: every step the part is INHAND or ONTOOL
+  double memoryMB = 0.0;            // what the grid may take while it works; 0: half the machine's memory
 };
 
 // Replays `session` on `scene` and sweeps the part through the span. Throws vaw::InputError (naming the
