@@ -35,6 +35,7 @@
 #include "vaw/importer.hpp"
 #include "vaw/mesh_export.hpp"
 #include "vaw/kept_results.hpp"
+#include "vaw/limits.hpp"
 
 #include "step_result_cache.hpp"
 #include "step_result_parser.hpp"
@@ -137,10 +138,8 @@ std::string signalName(int sig) {
   return "signal " + std::to_string(sig) + (abbrev ? std::string(", SIG") + abbrev : std::string());
 }
 
-// Half the machine's memory: a child's limit unless one is set.
-double memoryLimitMB(double set) {
-  return set > 0.0 ? set : 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE)) / 1048576.0;
-}
+// A child's memory limit: the one set, else vaw's default.
+double memoryLimitMB(double set) { return set > 0.0 ? set : vaw::limits::defaultMemoryMB(); }
 
 // Why a child was stopped before it ended by itself; the caller's `stopped` says it (and throws).
 enum class Stop { CannotStart, Cancelled, TimedOut };
@@ -151,11 +150,10 @@ enum class Stop { CannotStart, Cancelled, TimedOut };
 // when this call ends early by an exception. The child itself dies with this process and keeps to its memory
 // limit (its --parent and --memory-limit-mb, in `args`). `stage` follows the last stage it named. Returns its
 // wait status; `stopped` is called after the child is gone and must throw.
-int runChild(const std::vector<std::string>& args, const std::filesystem::path& errors, double timeoutSeconds,
+int runChild(std::vector<std::string> args, const std::filesystem::path& errors, double timeoutSeconds,
              const vaw::ProgressFn& progress, std::string& stage, const std::function<void(Stop, const std::string&)>& stopped) {
-  std::vector<std::string> argStrings = args;
   std::vector<char*> argv;
-  for (auto& a : argStrings) argv.push_back(a.data());
+  for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
 
   int pipeFds[2];

@@ -4,6 +4,8 @@
 // 1000 m/s, a part 1e308 m away) or a library would fail: FCL's trees crashed on a coordinate of
 // 1e308, and far-away coordinates made a short run hundreds of times slower. docs/scene-format.md and
 // docs/inputs-format.md list them for users.
+#include <unistd.h>
+
 #include <cstddef>
 
 namespace vaw::limits {
@@ -33,5 +35,12 @@ inline constexpr std::size_t kMaxJsonBytes = std::size_t{1} << 30;  // 1 GiB
 // (docs/benchmarks.md); twice that is the most a workstation is asked to hold.
 inline constexpr std::size_t kMaxMeshFileBytes = std::size_t{2} << 30;  // 2 GiB
 inline constexpr std::size_t kMaxTriangles = 10'000'000;
+
+// What a memory-hungry task (a STEP reader or writer, a sweep's grid) may take unless told otherwise: half
+// the machine's memory, MB, so that it fails with a named error before the system's out-of-memory killer
+// chooses the window.
+inline double defaultMemoryMB() {
+  return 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE)) / 1048576.0;
+}
 
 }  // namespace vaw::limits

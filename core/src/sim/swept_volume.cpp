@@ -1,7 +1,5 @@
 #include "vaw/sim/swept_volume.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -16,6 +14,7 @@
 #include <unordered_map>
 
 #include "vaw/error.hpp"
+#include "vaw/limits.hpp"
 #include "vaw/sim/carried_path.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/world.hpp"
@@ -307,8 +306,7 @@ TriMesh SweptVolume::surface() const {
 }
 
 std::uint64_t sweepVoxelsInMemory(double memoryMB) {
-  const double bytes = memoryMB > 0.0 ? memoryMB * 1048576.0
-                                      : 0.5 * static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+  const double bytes = (memoryMB > 0.0 ? memoryMB : limits::defaultMemoryMB()) * 1048576.0;
   const double voxels = bytes * 8.0 / 3.0;
   return voxels >= static_cast<double>(kMaxSweepVoxels) ? kMaxSweepVoxels : static_cast<std::uint64_t>(std::max(voxels, 0.0));
 }
