@@ -14,7 +14,10 @@
 #include <XCAFDoc_ShapeTool.hxx>
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -38,6 +41,8 @@ namespace fs = std::filesystem;
 const vaw::ImporterRegistry& registry() {
   static vaw::ImporterRegistry r;
   static const bool loaded = [] {
+    // Every open is timed from the file, nothing kept from an earlier one, unless VAW_CACHE_DIR says else.
+    ::setenv("VAW_CACHE_DIR", "off", 0);
     (void)r.loadPlugins(VAW_BUILD_PLUGIN_DIR);
     return true;
   }();
@@ -71,10 +76,19 @@ fs::path tiled(bool thousand) {
   return f;
 }
 
+// The rig (writeRigProduct), a product unlike the tiled one: `tiles` tiles of 35 parts, in rows of at most 7.
+fs::path rig(int tiles) {
+  const int x = std::min(tiles, 7), y = (tiles + 6) / 7;
+  const fs::path f = fs::temp_directory_path() / ("vaw-bench-rig-" + std::to_string(x) + "x" + std::to_string(y) + ".stp");
+  if (!fs::exists(f)) vaw::steptest::writeRigProduct(f, x, y);
+  return f;
+}
+
 // 0: the bundled sample; 1: 100 parts, instances of 5 products; 2: 100 parts, each its own product;
 // 3: the bolted rod, split B-spline cylinders; 4: the bolted rod as Pro/ENGINEER writes it; 5: the tiled
-// product, 96 parts; 6: the tiled product, 1,027 parts.
+// product, 96 parts; 6: the tiled product, 1,027 parts; 7: the rig, 7 x 4 tiles, 981 parts.
 fs::path fileFor(int which) {
+  if (which == 7) return rig(28);
   return which == 0 ? sample() : which <= 2 ? manyParts(which == 2) : which <= 4 ? boltedRod(which == 4) : tiled(which == 6);
 }
 
@@ -217,6 +231,31 @@ void BM_PlanSequence(benchmark::State& state) {
   state.counters["ordered"] = static_cast<double>(plan.order.size());
 }
 
+// How each stage of an open and the order grow with a product's size (docs/benchmarks.md, "A product's
+// size"): the rig of 1, 2, 5 and 10 tiles (36 to 351 parts) and 7 x 4 (981), nothing kept from an earlier
+// read; a counter per stage in seconds (vaw-sim inspect --timings names them), the last run's.
+void BM_RigGrowth(benchmark::State& state) {
+  const fs::path file = rig(static_cast<int>(state.range(0)));
+  std::vector<std::pair<std::string, double>> timings;
+  std::size_t parts = 0;
+  double order = 0.0;
+  for (auto _ : state) {
+    timings.clear();
+    vaw::LoadOptions options;
+    options.timings = &timings;
+    const vaw::Assembly a = vaw::loadAny(file, registry(), options);
+    parts = a.parts.size();
+    const auto started = std::chrono::steady_clock::now();
+    const vaw::eval::SequencePlan plan = vaw::eval::planSequence(a);
+    order = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    if (!plan.complete()) state.SkipWithError("the rig has parts no order places");
+  }
+  for (const auto& [stage, seconds] : timings) state.counters[stage] = seconds;
+  state.counters["order"] = order;
+  state.counters["parts"] = static_cast<double>(parts);
+  state.SetLabel(file.filename().string());
+}
+
 // The report of an ordered assembly (docs/evaluation.md, "The report"): the summary, the pictures, the
 // tables and the files, written into a temporary folder.
 void BM_Report(benchmark::State& state) {
@@ -302,13 +341,14 @@ BENCHMARK(BM_StepFirstPass)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecon
 BENCHMARK(BM_CadExportOpenCascade)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_CadExportReady)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_CadExportOrder)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_Interferences)->Arg(6)->Arg(10)->Arg(11)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Interferences)->Arg(6)->Arg(7)->Arg(10)->Arg(11)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepReader)->Arg(0)->Arg(1)->Arg(2)->Arg(5)->Arg(6)->Arg(7)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_StepReadyToAssemble)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Arg(7)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_StepSceneBuilt)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Recognition)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_PlanSequence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Arg(7)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_Report)->Arg(0)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_WorldStep)->Args({0, 0})->Args({0, 1})->Args({6, 0})->Args({6, 1})->Unit(benchmark::kMicrosecond)->UseRealTime();
-BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_GeometricPrecedence)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Arg(6)->Arg(7)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RigGrowth)->Arg(1)->Arg(2)->Arg(5)->Arg(10)->Arg(28)->Iterations(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();

@@ -46,6 +46,7 @@
 #include <TopoDS_Compound.hxx>
 #include <TopoDS_Wire.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
 #include <XCAFApp_Application.hxx>
 #include <XCAFDoc_ColorTool.hxx>
 #include <XCAFDoc_DocumentTool.hxx>
@@ -458,6 +459,116 @@ void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY
   for (int j = 0; j < tilesY; ++j)
     for (int i = 0; i < tilesX; ++i)
       w.instance(root, tile, ("tile-" + std::to_string(++n)).c_str(), at3(kTilePitchX * i, kTilePitchY * j, 0.0));
+  w.write(file, "AP214", false);
+}
+
+void writeRigProduct(const std::filesystem::path& file, int tilesX, int tilesY) {
+  if (tilesX < 1 || tilesY < 1) throw std::invalid_argument("step fixtures: writeRigProduct needs at least one tile");
+  constexpr double pitchX = 400, pitchY = 300;
+  // Holes in a tile's frame (its corner on the plate's top): through r 5.25 for the bolts, blind r 4 (8 deep)
+  // for the pins; the last three through and the last two blind stay empty.
+  const std::vector<std::array<double, 2>> through = {
+      {95, 130}, {95, 170}, {130, 130}, {130, 170},      // bracket 1's bolts (its frame at (120, 150))
+      {305, 170}, {305, 130}, {270, 170}, {270, 130},    // bracket 2's, turned half round at (280, 150)
+      {42, 55}, {98, 55}, {302, 245}, {358, 245},        // the covers' bolts
+      {200, 40}, {200, 260}, {30, 280}};
+  const std::vector<std::array<double, 2>> blind = {{70, 40}, {70, 70}, {330, 230}, {330, 260}, {370, 40}, {370, 120}};
+  const double cx = 0.5 * pitchX * tilesX, cy = 0.5 * pitchY * tilesY;
+  std::vector<std::array<double, 3>> holes;
+  std::vector<std::array<double, 2>> blindAt;
+  for (int i = 0; i < tilesX; ++i)
+    for (int j = 0; j < tilesY; ++j) {
+      for (const auto& h : through) holes.push_back({pitchX * i + h[0] - cx, pitchY * j + h[1] - cy, 5.25});
+      for (const auto& h : blind) blindAt.push_back({pitchX * i + h[0] - cx, pitchY * j + h[1] - cy});
+    }
+  // The plate in its own frame (centre of its top face at the origin), through holes in the extruded face,
+  // the blind ones cut in one boolean with every drill as a tool (one cut each would take minutes).
+  gp_Trsf down;
+  down.SetTranslation(gp_Vec(0, 0, -12));
+  TopoDS_Shape plate = BRepBuilderAPI_Transform(plateWithHoles(-cx, -cy, cx, cy, 12, holes), down, true).Shape();
+  {
+    TopTools_ListOfShape arguments, tools;
+    arguments.Append(plate);
+    for (const auto& b : blindAt) tools.Append(cylinder(b[0], b[1], -8, 4, 9));
+    BRepAlgoAPI_Cut op;
+    op.SetArguments(arguments);
+    op.SetTools(tools);
+    op.SetRunParallel(true);
+    op.Build();
+    if (!op.IsDone()) throw std::runtime_error("step fixtures: the rig plate's blind holes could not be cut");
+    plate = unify(op.Shape());
+  }
+
+  // The bracket, its frame on the flange's top: flange x -40..40, y -30..30, z -10..0 with four bolt holes;
+  // upright x 30..40 up to z 60 with the rod's bore (r 6.25 along x at z 35).
+  TopoDS_Shape bracket = fuse(box(-40, -30, -10, 40, 30, 0), box(30, -30, 0, 40, 30, 60));
+  for (const auto& h : {std::pair{-25.0, -20.0}, std::pair{-25.0, 20.0}, std::pair{10.0, -20.0}, std::pair{10.0, 20.0}})
+    bracket = cut(bracket, cylinder(h.first, h.second, -11, 5.25, 12));
+  bracket = unify(cut(bracket, cylinderAlong(gp_Pnt(25, 0, 35), gp_Dir(1, 0, 0), 6.25, 20)));
+  // Bolt: shank r 5, z 0..34, head r 8, z 34..40. Nut r 5..9, 8 high.
+  const TopoDS_Shape bolt = unify(fuse(cylinder(0, 0, 0, 5, 34), cylinder(0, 0, 34, 8, 6)));
+  // Cover, its frame on its top: 80 x 50 x 6 with bolt holes at (+-28, 0) and the pins' holes (r 4.05) at
+  // (0, +-15).
+  TopoDS_Shape cover = box(-40, -25, -6, 40, 25, 0);
+  for (const double x : {-28.0, 28.0}) cover = cut(cover, cylinder(x, 0, -7, 5.25, 8));
+  for (const double y : {-15.0, 15.0}) cover = cut(cover, cylinder(0, y, -7, 4.05, 8));
+  cover = unify(cover);
+  // Rod r 6 along x, 140 long from its frame; collars r 6.1..11, 10 long.
+  const TopoDS_Shape rod = cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 6, 140);
+  const TopoDS_Shape collar =
+      unify(cut(cylinderAlong(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0), 11, 10), cylinderAlong(gp_Pnt(-1, 0, 0), gp_Dir(1, 0, 0), 6.1, 12)));
+
+  Writer w;
+  const TDF_Label root = w.assembly("RIG");
+  const TDF_Label plateL = w.product("RIG-PLATE", plate, {0.55, 0.57, 0.6});
+  const TDF_Label bracketL = w.product("RIG-BRACKET", bracket, {0.25, 0.45, 0.3});
+  const TDF_Label boltL = w.product("RIG-BOLT", bolt, {0.75, 0.75, 0.7});
+  const TDF_Label nutL = w.product("RIG-NUT", tube(5, 9, 8), {0.8, 0.65, 0.2});
+  const TDF_Label coverL = w.product("RIG-COVER", cover, {0.7, 0.3, 0.2});
+  const TDF_Label rodL = w.product("RIG-ROD", rod, {0.7, 0.7, 0.75});
+  const TDF_Label collarL = w.product("RIG-COLLAR", collar, {0.8, 0.65, 0.2});
+  const TDF_Label pinL = w.product("RIG-PIN", cylinder(0, 0, 0, 4, 18), {0.5, 0.5, 0.55});
+  const auto at3 = [](double x, double y, double z, double turnZ = 0.0) { return placed(turnedAt(x, y, z, turnZ)); };
+
+  const TDF_Label bracketAssembly = w.assembly("BRACKET-ASSEMBLY");
+  // Each product's frame is off its instance's origin: the writer drops the name of an identity placement.
+  w.instance(bracketAssembly, bracketL, "bracket", at3(0, 0, 10));
+  const double bracketBolts[4][2] = {{-25, -20}, {-25, 20}, {10, -20}, {10, 20}};
+  for (int k = 0; k < 4; ++k) {
+    w.instance(bracketAssembly, boltL, ("bolt-" + std::to_string(k + 1)).c_str(), at3(bracketBolts[k][0], bracketBolts[k][1], -24));
+    w.instance(bracketAssembly, nutL, ("nut-" + std::to_string(k + 1)).c_str(), at3(bracketBolts[k][0], bracketBolts[k][1], -20));
+  }
+  const TDF_Label coverAssembly = w.assembly("COVER-ASSEMBLY");
+  w.instance(coverAssembly, coverL, "cover", at3(0, 0, 6));
+  for (int k = 0; k < 2; ++k) {
+    const double x = k == 0 ? -28 : 28;
+    // Heads under the plate: the bolt turned upside down, its shank from the head at z -12 up to z 22.
+    gp_Trsf flip;
+    flip.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), M_PI);
+    w.instance(coverAssembly, boltL, ("bolt-" + std::to_string(k + 1)).c_str(), placed(turnedAt(x, 0, 22, 0) * flip));
+    w.instance(coverAssembly, nutL, ("nut-" + std::to_string(k + 1)).c_str(), at3(x, 0, 6));
+  }
+  const TDF_Label rodAssembly = w.assembly("ROD-ASSEMBLY");
+  w.instance(rodAssembly, rodL, "rod", at3(-70, 0, 0));
+  w.instance(rodAssembly, collarL, "collar-1", at3(-35, 0, 0));
+  w.instance(rodAssembly, collarL, "collar-2", at3(25, 0, 0));
+
+  const TDF_Label tile = w.assembly("RIG-TILE");
+  w.instance(tile, bracketAssembly, "bracket-assembly-1", at3(120, 150, 0));
+  w.instance(tile, bracketAssembly, "bracket-assembly-2", at3(280, 150, 0, M_PI));
+  w.instance(tile, coverAssembly, "cover-assembly-1", at3(70, 55, 0));
+  w.instance(tile, coverAssembly, "cover-assembly-2", at3(330, 245, 0));
+  w.instance(tile, rodAssembly, "rod-assembly", at3(200, 150, 45));
+  const double pins[4][2] = {{70, 40}, {70, 70}, {330, 230}, {330, 260}};
+  for (int k = 0; k < 4; ++k) w.instance(tile, pinL, ("pin-" + std::to_string(k + 1)).c_str(), at3(pins[k][0], pins[k][1], -8));
+
+  // The product stands far from the file's origin, as a rig in a plant's layout does.
+  const double ox = 2500, oy = 1200, oz = 750;
+  w.instance(root, plateL, "plate", at3(ox + cx, oy + cy, oz));
+  int n = 0;
+  for (int j = 0; j < tilesY; ++j)
+    for (int i = 0; i < tilesX; ++i)
+      w.instance(root, tile, ("tile-" + std::to_string(++n)).c_str(), at3(ox + pitchX * i, oy + pitchY * j, oz));
   w.write(file, "AP214", false);
 }
 

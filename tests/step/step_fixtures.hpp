@@ -60,6 +60,17 @@ void writeBoltedRod(const std::filesystem::path& file, const ExportStyle& style 
 // the tile) that nothing goes into, as a base drilled for options has.
 void writeTiledProduct(const std::filesystem::path& file, int tilesX, int tilesY, bool emptyHoles = false);
 
+// A large product unlike the tiled one, built as a test rig is (mm, Z up; step_fixtures.cpp has every
+// coordinate): the "RIG-PLATE" (12 thick, top at z 0, 400 x 300 a tile) with `tilesX` x `tilesY` tiles, the
+// whole product placed far from the file's origin (at (2500, 1200, 750)) and the plate's own frame at its
+// centre. Each "RIG-TILE" sub-assembly holds two "BRACKET-ASSEMBLY"s (an L-bracket with a bored upright,
+// four headed bolts from above through the flange and the plate, r 5 in r 5.25 holes, a nut under the plate
+// on each), two "COVER-ASSEMBLY"s (a cover plate held by two bolts from below, heads under the plate, nuts on
+// the cover), a "ROD-ASSEMBLY" (a rod through both uprights' bores with two collars between them) and four
+// "RIG-PIN" dowels (r 4) in blind holes (8 deep) of the plate through the covers; and the plate has five
+// holes a tile that nothing goes into (three through, two blind). 35 parts a tile: 7 x 4 tiles make 981.
+void writeRigProduct(const std::filesystem::path& file, int tilesX, int tilesY);
+
 // An assembly modelled the way designers model fasteners and fits (mm, Z up; step_fixtures.cpp has every
 // coordinate): the "BASE" block (120 x 80 x 20, top edges chamfered) with two tapped M6 holes modelled at
 // the tap drill (r 2.5, 14 deep, a 118 degree drill point) and two dowel holes (r 3, 8 deep); the

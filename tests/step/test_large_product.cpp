@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <numeric>
 #include <set>
@@ -204,6 +205,74 @@ TEST(LargeProduct, RecognitionIsTheSameTileForTileAsTheBaseGrows) {
     for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
     EXPECT_TRUE(vaw::nearMisses(parts).empty()) << x << " x " << y;
   }
+}
+
+// A product unlike the tiled one (writeRigProduct): nested sub-assemblies in each tile, bolts from above
+// with nuts under the plate and from below with nuts on the covers, dowel pins in blind holes, holes left
+// empty, the whole product 2.5 m from the file's origin. Recognised identically tile for tile on a plate of
+// 1, 3 and 5 x 2 tiles (80 constraints a tile, none onto an empty hole, no near miss), with every insert's
+// fit as modelled.
+TEST(RigProduct, RecognitionIsTheSameTileForTileOnEveryPlate) {
+  std::map<std::string, int> perTile;
+  for (const auto& [x, y] : {std::pair{1, 1}, std::pair{3, 1}, std::pair{5, 2}}) {
+    const auto file = vaw::test::tempDir() / ("rig-" + std::to_string(x) + "x" + std::to_string(y) + ".stp");
+    vaw::steptest::writeRigProduct(file, x, y);
+    const Assembly a = vaw::loadAny(file, vaw::test::importers());
+    const int tiles = x * y;
+    ASSERT_EQ(a.parts.size(), 1u + 35u * static_cast<std::size_t>(tiles));
+    ASSERT_TRUE(a.base.has_value());
+    EXPECT_EQ(a.parts[*a.base].name, "plate");
+    std::map<std::string, int> counted;
+    for (const Constraint& c : a.constraints) {
+      const std::string partner = c.partner ? tileOf(a.parts[*c.partner].name).first : a.parts[*a.base].name;
+      std::string kind = std::string(vaw::name(c.type)) + " " + tileOf(a.parts[c.part].name).first + " on " + partner;
+      if (c.found && c.type == Constraint::Type::Insert) {
+        char radii[64];
+        std::snprintf(radii, sizeof radii, " r %.2f/%.2f mm", c.found->partRadius * 1e3, c.found->partnerRadius * 1e3);
+        kind += radii;
+      }
+      ++counted[kind];
+    }
+    if (perTile.empty()) {
+      perTile = counted;
+      EXPECT_EQ(std::accumulate(perTile.begin(), perTile.end(), 0, [](int n, const auto& e) { return n + e.second; }), 80);
+      // The pins' fits in the blind holes and in the covers, the bolts' in the plate from both sides.
+      EXPECT_EQ((counted["insert pin-1 on plate r 4.00/4.00 mm"]), 1);
+      EXPECT_EQ((counted["insert cover on pin-1 r 4.05/4.00 mm"]), 1);
+      // bolt-1 of each of the tile's four sub-assemblies: two from above, two from below.
+      EXPECT_EQ((counted["insert bolt-1 on plate r 5.00/5.25 mm"]), 4);
+      continue;
+    }
+    for (const auto& [kind, n] : perTile) EXPECT_EQ(counted[kind], n * tiles) << kind << " on " << x << " x " << y << " tiles";
+    EXPECT_EQ(counted.size(), perTile.size()) << x << " x " << y;
+    std::vector<vaw::RecognitionPart> parts;
+    for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
+    EXPECT_TRUE(vaw::nearMisses(parts).empty()) << x << " x " << y;
+  }
+}
+
+// Its order: every part placed, each bracket's bolts after the bracket and before their nuts, each cover
+// after its pins and before the nuts on its bolts.
+TEST(RigProduct, AnOrderPutsEveryPartInPlace) {
+  const auto file = vaw::test::tempDir() / "rig-5x2.stp";
+  if (!std::filesystem::exists(file)) vaw::steptest::writeRigProduct(file, 5, 2);
+  const Assembly a = vaw::loadAny(file, vaw::test::importers());
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(a);
+  ASSERT_TRUE(plan.complete()) << plan.stuck.size() << " parts unplaced";
+  EXPECT_EQ(plan.order.size(), a.parts.size());
+  std::vector<std::size_t> at(a.parts.size());
+  for (std::size_t i = 0; i < plan.order.size(); ++i) at[plan.order[i]] = i;
+  // Every insert's partner is in before the part that goes into or onto it.
+  int inserts = 0;
+  for (const Constraint& c : a.constraints) {
+    if (c.type != Constraint::Type::Insert || !c.partner) continue;
+    const std::string part = tileOf(a.parts[c.part].name).first, partner = tileOf(a.parts[*c.partner].name).first;
+    if ((part.rfind("nut-", 0) == 0 && partner.rfind("bolt-", 0) == 0) || (part == "cover" && partner.rfind("pin-", 0) == 0)) {
+      EXPECT_LT(at[*c.partner], at[c.part]) << a.parts[c.part].name << " before " << a.parts[*c.partner].name;
+      ++inserts;
+    }
+  }
+  EXPECT_EQ(inserts, 10 * (8 + 4 + 4));
 }
 
 }  // namespace

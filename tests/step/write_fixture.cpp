@@ -3,7 +3,8 @@
 //   vaw_write_step_fixture KIND OUTPUT.stp
 // KIND: captive-ring, bolted-rod (clean), bolted-rod-split4 (cylinders in quarters, B-spline faces) or
 // bolted-rod-proe (AP203 in inches, Y up, cylinders in halves, names on the products only), or tiled-XxY
-// (writeTiledProduct: tiled-9x6 is the 1,027-part product).
+// (writeTiledProduct: tiled-9x6 is the 1,027-part product), or rig-XxY (writeRigProduct: rig-7x4 is 981
+// parts).
 #include <cstdio>
 #include <exception>
 #include <string>
@@ -12,7 +13,7 @@
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: vaw_write_step_fixture captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe|fastened-block[-inch|-clash]|bearing-in-housing|unsewn-and-hollow|tiled-XxY OUTPUT.stp\n");
+    std::fprintf(stderr, "usage: vaw_write_step_fixture captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe|fastened-block[-inch|-clash]|bearing-in-housing|unsewn-and-hollow|tiled-XxY|rig-XxY OUTPUT.stp\n");
     return 2;
   }
   const std::string kind = argv[1];
@@ -28,6 +29,7 @@ int main(int argc, char** argv) {
     else if (kind == "unsewn-and-hollow") vaw::steptest::writeUnsewnAndHollow(argv[2]);
     else if (kind == "bolted-rod-proe") vaw::steptest::writeBoltedRod(argv[2], ExportStyle{2, false, false, true, true, "AP203"});
     else if (int x = 0, y = 0; std::sscanf(kind.c_str(), "tiled-%dx%d", &x, &y) == 2) vaw::steptest::writeTiledProduct(argv[2], x, y);
+    else if (int rx = 0, ry = 0; std::sscanf(kind.c_str(), "rig-%dx%d", &rx, &ry) == 2) vaw::steptest::writeRigProduct(argv[2], rx, ry);
     else {
       std::fprintf(stderr, "vaw_write_step_fixture: unknown kind \"%s\"\n", kind.c_str());
       return 2;

@@ -145,6 +145,60 @@ struct PairContext {
     return std::abs(a.normal.dot(R * b.origin + T - a.origin)) <= room && std::abs(nb.dot(a.origin - (R * b.origin + T))) <= room;
   }
 
+  // Planes across which a pair can only touch, never cross (docs/collision.md, "Separating planes"): the
+  // largest flat faces of both parts (a plate's top, a bracket's foot), in A's frame. Two nodes or triangles
+  // wholly on opposite sides of one of them (within the distance tolerance) can meet only in that plane:
+  // the walls of a bracket's holes above a plate and those of the plate's holes under it. In a sweep only
+  // the planes the motion lies in, which stay separating all along.
+  struct Separator {
+    Eigen::Vector3d normal, origin;
+    double room;
+  };
+  std::vector<Separator> separators;
+  void findSeparators(const Eigen::Vector3d* dir, double sinAngle) {
+    separators.clear();
+    const auto add = [&](const PlanarPatch& p, const Eigen::Vector3d& normal, const Eigen::Vector3d& origin) {
+      const double room = tol.distance - p.residual;
+      if (room >= 0.0 && (!dir || std::abs(normal.dot(*dir)) <= sinAngle)) separators.push_back({normal, origin, room});
+    };
+    for (const int k : A->patches->largestPlanes) {
+      const PlanarPatch& p = A->patches->planes[static_cast<std::size_t>(k)];
+      add(p, p.normal, p.origin);
+    }
+    for (const int k : B->patches->largestPlanes) {
+      const PlanarPatch& p = B->patches->planes[static_cast<std::size_t>(k)];
+      add(p, R * p.normal, R * p.origin + T);
+    }
+  }
+  // Whether a separator has A's box (in A's frame) on one side and B's (in B's frame) on the other.
+  bool separated(const fcl::OBBd& a, const fcl::OBBd& b) const {
+    if (separators.empty()) return false;
+    const Eigen::Vector3d cb = R * b.To + T;
+    const Eigen::Matrix3d axesB = R * b.axis;
+    for (const Separator& s : separators) {
+      const auto reach = [&](const Eigen::Matrix3d& axes, const Eigen::Vector3d& half) {
+        return half.x() * std::abs(s.normal.dot(axes.col(0))) + half.y() * std::abs(s.normal.dot(axes.col(1))) +
+               half.z() * std::abs(s.normal.dot(axes.col(2)));
+      };
+      const double da = s.normal.dot(a.To - s.origin), ra = reach(a.axis, a.extent);
+      const double db = s.normal.dot(cb - s.origin), rb = reach(axesB, b.extent);
+      if ((da + ra <= s.room && db - rb >= -s.room) || (da - ra >= -s.room && db + rb <= s.room)) return true;
+    }
+    return false;
+  }
+  bool separated(const Tri& p, const Tri& q) const {
+    for (const Separator& s : separators) {
+      const auto side = [&](const Tri& t) {
+        const double d0 = s.normal.dot(t[0] - s.origin), d1 = s.normal.dot(t[1] - s.origin), d2 = s.normal.dot(t[2] - s.origin);
+        return std::pair{std::min({d0, d1, d2}), std::max({d0, d1, d2})};
+      };
+      const auto [pMin, pMax] = side(p);
+      const auto [qMin, qMax] = side(q);
+      if ((pMax <= s.room && qMin >= -s.room) || (pMin >= -s.room && qMax <= s.room)) return true;
+    }
+    return false;
+  }
+
   bool coaxial(int ta, int tb) {
     const int ca = A->patches->cylinderOf[static_cast<std::size_t>(ta)];
     const int cb = B->patches->cylinderOf[static_cast<std::size_t>(tb)];
@@ -231,6 +285,10 @@ class FilteredNode : public BaseNode {
     const Tri p{this->vertices1[t1[0]], this->vertices1[t1[1]], this->vertices1[t1[2]]};
     const Tri q{ctx->R * this->vertices2[t2[0]] + ctx->T, ctx->R * this->vertices2[t2[1]] + ctx->T,
                 ctx->R * this->vertices2[t2[2]] + ctx->T};
+    if (ctx->separated(p, q)) {
+      ++ctx->out->filtered;
+      return;
+    }
     ctx->record(i1, i2, p, q, keepCoplanar);
   }
   bool canStop() const override { return ctx->stop; }
@@ -239,6 +297,7 @@ class FilteredNode : public BaseNode {
     ++ctx->out->boundingVolumeTests;
     if (ctx->bBelow && (*ctx->bBelow)[static_cast<std::size_t>(b2)]) return true;
     if (ctx->skipsWhole(b1, b2)) return true;
+    if (ctx->separated(this->model1->getBV(b1).bv.obb, this->model2->getBV(b2).bv.obb)) return true;
     if (!keepCoplanar) return BaseNode::BVTesting(b1, b2);
     return fcl::distance(this->R, this->T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv) > ctx->tol.distance;
   }
@@ -258,6 +317,8 @@ void meshMeshQuery(PairContext& ctx, const Eigen::Isometry3d& poseA, const Eigen
   ctx.cosAngle = std::cos(ctx.tol.angle);
   ctx.forget();
   ctx.findBands();
+  // Where touching is no contact, a pair that can only touch is left out.
+  if (ctx.opt.dropTouching && ctx.mode != FilterMode::KeepCoplanar) ctx.findSeparators(nullptr, 0.0);
   node.ctx = &ctx;
   node.keepCoplanar = ctx.mode == FilterMode::KeepCoplanar;
   fcl::detail::collide(&node, nullptr);
@@ -305,6 +366,7 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     if (filtered(A().nodePlane[static_cast<std::size_t>(b1)], B().nodePlane[static_cast<std::size_t>(b2)],
                  A().nodeCylinder[static_cast<std::size_t>(b1)], B().nodeCylinder[static_cast<std::size_t>(b2)]))
       return std::numeric_limits<double>::max();
+    if (ctx->separated(o1, o2)) return std::numeric_limits<double>::max();
     return fcl::detail::MeshDistanceTraversalNodeOBBRSS<double>::BVTesting(b1, b2);
   }
 
@@ -318,7 +380,8 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     const int ta = A().bvhToMesh[static_cast<std::size_t>(i1)], tb = B().bvhToMesh[static_cast<std::size_t>(i2)];
     if (behind(p, q) || neverMeet(p, q) || (ctx->mode == FilterMode::SkipCoaxial && ctx->inDesignedBand(p, q)) ||
         filtered(A().patches->planeOf[static_cast<std::size_t>(ta)], B().patches->planeOf[static_cast<std::size_t>(tb)],
-                 A().patches->cylinderOf[static_cast<std::size_t>(ta)], B().patches->cylinderOf[static_cast<std::size_t>(tb)]))
+                 A().patches->cylinderOf[static_cast<std::size_t>(ta)], B().patches->cylinderOf[static_cast<std::size_t>(tb)]) ||
+        ctx->separated(p, q))
       return;
     fcl::Vector3d P, Q;
     const double d = fcl::detail::TriangleDistance<double>::triDistance(p[0], p[1], p[2], q[0], q[1], q[2], P, Q);
@@ -611,6 +674,7 @@ double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA,
   node.inB << node.tf.linear().transpose() * node.dir, node.tf.linear().transpose() * node.e1, node.tf.linear().transpose() * node.e2;
   node.cosAngle = ctx.cosAngle;
   node.sinAngle = std::sin(ctx.tol.angle);
+  ctx.findSeparators(&node.dir, node.sinAngle);
   // Shadows closer than this count as overlapping: rounding, and the two tessellations' sagittas.
   node.margin = ctx.tol.distance;
   // FCL's traversal prunes every pair of volumes no nearer than the best distance so far: starting from

@@ -511,6 +511,15 @@ SurfacePatches classifySurfaces(const TriMesh& mesh, const CadSolid* cad, const 
       if (f.surface == CadFace::Surface::Other)
         for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < n; ++t) out.curved[t] = 1;
   }
+  std::vector<char> facet(out.planes.size(), 0);
+  for (const CylindricalPatch& c : out.cylinders)
+    for (const int f : c.facets) facet[static_cast<std::size_t>(f)] = 1;
+  for (std::size_t i = 0; i < out.planes.size(); ++i)
+    if (!facet[i]) out.largestPlanes.push_back(static_cast<int>(i));
+  const auto larger = [&](int x, int y) { return out.planes[static_cast<std::size_t>(x)].area > out.planes[static_cast<std::size_t>(y)].area; };
+  const std::size_t keep = std::min(out.largestPlanes.size(), SurfacePatches::kLargestPlanes);
+  std::partial_sort(out.largestPlanes.begin(), out.largestPlanes.begin() + static_cast<std::ptrdiff_t>(keep), out.largestPlanes.end(), larger);
+  out.largestPlanes.resize(keep);
   return out;
 }
 

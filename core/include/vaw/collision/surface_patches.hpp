@@ -71,6 +71,10 @@ struct SurfacePatches {
   std::vector<CylindricalPatch> cylinders;
   std::vector<int> planeOf;               // per triangle: its planar patch, -1 for a degenerate or invalid one
   std::vector<int> cylinderOf;            // per triangle: its cylindrical patch or -1
+  // The largest flat faces (at most kLargestPlanes, none a cylinder's facet), largest first: the planes a
+  // part rests or slides on, which the queries try as separating planes (docs/collision.md).
+  std::vector<int> largestPlanes;
+  static constexpr std::size_t kLargestPlanes = 4;
   // Per triangle: a facet of a CAD face that is neither a plane nor a cylinder (a cone, a torus, a free-form
   // face), which lies up to the tessellation's deflection inside the true surface; empty without CAD faces.
   std::vector<char> curved;
