@@ -22,6 +22,7 @@ struct PairContext {
   QueryResult* out = nullptr;
   double cosAngle = 1.0;
   std::vector<signed char> coaxCache;  // per (cylinder of A, cylinder of B): -1 unknown, 0 no, 1 yes
+  std::vector<signed char> looseCache; // the same for looselyCoaxial
   std::vector<signed char> rimOfA;     // per (plane of A, cylinder of B): a rim of that plane coaxial with it
   std::vector<signed char> rimOfB;     // per (cylinder of A, plane of B)
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();  // B frame -> A frame
@@ -88,6 +89,9 @@ struct PairContext {
       const int pa = A->nodePlane[static_cast<std::size_t>(b1)], pb = B->nodePlane[static_cast<std::size_t>(b2)];
       if (pa >= 0 && pb >= 0 && planesCoincide(pa, pb)) return true;
     }
+    if (const int ca = A->nodeCylinder[static_cast<std::size_t>(b1)], cb = B->nodeCylinder[static_cast<std::size_t>(b2)];
+        ca >= 0 && cb >= 0 && mode != FilterMode::KeepCoplanar && looselyCoaxial(ca, cb))
+      return true;
     if (mode == FilterMode::SkipCoaxial) {
       const int ca = A->nodeCylinder[static_cast<std::size_t>(b1)], cb = B->nodeCylinder[static_cast<std::size_t>(b2)];
       if (ca >= 0 && cb >= 0 && cylindersCoaxial(ca, cb)) return true;
@@ -130,6 +134,7 @@ struct PairContext {
   // For a new pair of poses: nothing known yet.
   void forget() {
     coaxCache.assign(A->patches->cylinders.size() * B->patches->cylinders.size(), -1);
+    looseCache.assign(coaxCache.size(), -1);
     rimOfA.assign(A->patches->planes.size() * B->patches->cylinders.size(), -1);
     rimOfB.assign(A->patches->cylinders.size() * B->patches->planes.size(), -1);
   }
@@ -145,44 +150,54 @@ struct PairContext {
     return std::abs(a.normal.dot(R * b.origin + T - a.origin)) <= room && std::abs(nb.dot(a.origin - (R * b.origin + T))) <= room;
   }
 
-  // Planes across which a pair can only touch, never cross (docs/collision.md, "Separating planes"): the
-  // largest flat faces of both parts (a plate's top, a bracket's foot), in A's frame. Two nodes or triangles
+  // Planes across which a pair can only touch, never cross (docs/collision.md, "Separating planes"): where
+  // the largest flat faces of both parts lie in one plane (a bracket's foot on a plate's top), in A's frame. Two nodes or triangles
   // wholly on opposite sides of one of them (within the distance tolerance) can meet only in that plane:
   // the walls of a bracket's holes above a plate and those of the plate's holes under it. In a sweep only
   // the planes the motion lies in, which stay separating all along.
   struct Separator {
-    Eigen::Vector3d normal, origin;
+    Eigen::Vector3d normal, origin;      // in A's frame
+    Eigen::Vector3d normalB, originB;    // the same plane in B's frame
+    Eigen::Vector3d absA, absB;          // |normal| per axis in either frame, for boxes along the frame's axes
     double room;
   };
   std::vector<Separator> separators;
   void findSeparators(const Eigen::Vector3d* dir, double sinAngle) {
     separators.clear();
-    const auto add = [&](const PlanarPatch& p, const Eigen::Vector3d& normal, const Eigen::Vector3d& origin) {
-      const double room = tol.distance - p.residual;
-      if (room >= 0.0 && (!dir || std::abs(normal.dot(*dir)) <= sinAngle)) separators.push_back({normal, origin, room});
-    };
-    for (const int k : A->patches->largestPlanes) {
-      const PlanarPatch& p = A->patches->planes[static_cast<std::size_t>(k)];
-      add(p, p.normal, p.origin);
-    }
-    for (const int k : B->patches->largestPlanes) {
-      const PlanarPatch& p = B->patches->planes[static_cast<std::size_t>(k)];
-      add(p, R * p.normal, R * p.origin + T);
+    // Only a plane both parts have a face in (within the tolerance): where they rest on each other. Any
+    // other plane would cost every node pair a test and separate little.
+    for (const int i : A->patches->largestPlanes) {
+      const PlanarPatch& pa = A->patches->planes[static_cast<std::size_t>(i)];
+      if (dir && std::abs(pa.normal.dot(*dir)) > sinAngle) continue;
+      for (const int j : B->patches->largestPlanes) {
+        const PlanarPatch& pb = B->patches->planes[static_cast<std::size_t>(j)];
+        const double room = tol.distance - std::max(pa.residual, pb.residual);
+        const Eigen::Vector3d nb = R * pb.normal, ob = R * pb.origin + T;
+        if (room < 0.0 || std::abs(pa.normal.dot(nb)) < cosAngle || std::abs(pa.normal.dot(ob - pa.origin)) > room) continue;
+        Separator s{pa.normal, pa.origin, R.transpose() * pa.normal, R.transpose() * (pa.origin - T), pa.normal.cwiseAbs(),
+                    Eigen::Vector3d::Zero(), room};
+        s.absB = s.normalB.cwiseAbs();
+        separators.push_back(s);
+        break;
+      }
     }
   }
-  // Whether a separator has A's box (in A's frame) on one side and B's (in B's frame) on the other.
-  bool separated(const fcl::OBBd& a, const fcl::OBBd& b) const {
+  static bool apartAcross(const Separator& s, double da, double ra, double db, double rb) {
+    return (da + ra <= s.room && db - rb >= -s.room) || (da - ra >= -s.room && db + rb <= s.room);
+  }
+  // Two hierarchy nodes: by the boxes along the meshes' own axes (tight for a large flat part, whose fitted
+  // boxes lean off its faces), else by FCL's fitted boxes (each in its mesh's frame).
+  bool separated(int b1, const fcl::OBBd& a, int b2, const fcl::OBBd& b) const {
     if (separators.empty()) return false;
-    const Eigen::Vector3d cb = R * b.To + T;
-    const Eigen::Matrix3d axesB = R * b.axis;
+    const Eigen::AlignedBox3d& x1 = (*A->nodeBox)[static_cast<std::size_t>(b1)];
+    const Eigen::AlignedBox3d& x2 = (*B->nodeBox)[static_cast<std::size_t>(b2)];
+    const Eigen::Vector3d c1 = x1.center(), h1 = 0.5 * x1.sizes(), c2 = x2.center(), h2 = 0.5 * x2.sizes();
     for (const Separator& s : separators) {
-      const auto reach = [&](const Eigen::Matrix3d& axes, const Eigen::Vector3d& half) {
-        return half.x() * std::abs(s.normal.dot(axes.col(0))) + half.y() * std::abs(s.normal.dot(axes.col(1))) +
-               half.z() * std::abs(s.normal.dot(axes.col(2)));
-      };
-      const double da = s.normal.dot(a.To - s.origin), ra = reach(a.axis, a.extent);
-      const double db = s.normal.dot(cb - s.origin), rb = reach(axesB, b.extent);
-      if ((da + ra <= s.room && db - rb >= -s.room) || (da - ra >= -s.room && db + rb <= s.room)) return true;
+      if (apartAcross(s, s.normal.dot(c1 - s.origin), s.absA.dot(h1), s.normalB.dot(c2 - s.originB), s.absB.dot(h2))) return true;
+      const Eigen::Vector3d na = a.axis.transpose() * s.normal, nb = b.axis.transpose() * s.normalB;
+      if (apartAcross(s, s.normal.dot(a.To - s.origin), na.cwiseAbs().dot(a.extent), s.normalB.dot(b.To - s.originB),
+                      nb.cwiseAbs().dot(b.extent)))
+        return true;
     }
     return false;
   }
@@ -204,6 +219,27 @@ struct PairContext {
     const int cb = B->patches->cylinderOf[static_cast<std::size_t>(tb)];
     if (ca >= 0 && cb >= 0) return cylindersCoaxial(ca, cb);
     return rimAgainstCylinder(A->patches->planeOf[static_cast<std::size_t>(ta)], cb, ca, B->patches->planeOf[static_cast<std::size_t>(tb)]);
+  }
+
+  // A shaft inside a looser bore on (nearly) its axis, the shaft's whole radius and the axes' offset short
+  // of the bore's facets (which lie up to its sagitta inside the true bore) by more than the distance
+  // tolerance: no facet of one meets a facet of the other, and none will while either moves along the axis
+  // (a bolt in its clearance hole). Either part may be the shaft.
+  bool looselyCoaxial(int ca, int cb) {
+    const std::size_t key = static_cast<std::size_t>(ca) * B->patches->cylinders.size() + static_cast<std::size_t>(cb);
+    if (looseCache[key] >= 0) return looseCache[key] == 1;
+    const CylindricalPatch& a = A->patches->cylinders[static_cast<std::size_t>(ca)];
+    const CylindricalPatch& b = B->patches->cylinders[static_cast<std::size_t>(cb)];
+    bool yes = false;
+    if (a.convex != b.convex && std::abs(a.direction.dot(R * b.direction)) >= cosAngle) {
+      Eigen::Vector3d off = R * b.point + T - a.point;
+      off -= a.direction * a.direction.dot(off);
+      const CylindricalPatch& shaft = a.convex ? a : b;
+      const CylindricalPatch& bore = a.convex ? b : a;
+      yes = off.norm() + shaft.radius < bore.radius - bore.sagitta - tol.distance;
+    }
+    looseCache[key] = yes ? 1 : 0;
+    return yes;
   }
 
   bool cylindersCoaxial(int ca, int cb) {
@@ -297,7 +333,7 @@ class FilteredNode : public BaseNode {
     ++ctx->out->boundingVolumeTests;
     if (ctx->bBelow && (*ctx->bBelow)[static_cast<std::size_t>(b2)]) return true;
     if (ctx->skipsWhole(b1, b2)) return true;
-    if (ctx->separated(this->model1->getBV(b1).bv.obb, this->model2->getBV(b2).bv.obb)) return true;
+    if (ctx->separated(b1, this->model1->getBV(b1).bv.obb, b2, this->model2->getBV(b2).bv.obb)) return true;
     if (!keepCoplanar) return BaseNode::BVTesting(b1, b2);
     return fcl::distance(this->R, this->T, this->model1->getBV(b1).bv, this->model2->getBV(b2).bv) > ctx->tol.distance;
   }
@@ -366,7 +402,7 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     if (filtered(A().nodePlane[static_cast<std::size_t>(b1)], B().nodePlane[static_cast<std::size_t>(b2)],
                  A().nodeCylinder[static_cast<std::size_t>(b1)], B().nodeCylinder[static_cast<std::size_t>(b2)]))
       return std::numeric_limits<double>::max();
-    if (ctx->separated(o1, o2)) return std::numeric_limits<double>::max();
+    if (ctx->separated(b1, o1, b2, o2)) return std::numeric_limits<double>::max();
     return fcl::detail::MeshDistanceTraversalNodeOBBRSS<double>::BVTesting(b1, b2);
   }
 
@@ -451,6 +487,9 @@ class SweepDistanceNode : public fcl::detail::MeshDistanceTraversalNodeOBBRSS<do
     // touching).
     if (planeA >= 0 && planeB >= 0 && std::abs(pa.planes[static_cast<std::size_t>(planeA)].normal.dot(dir)) <= sinAngle &&
         ctx->planesCoincide(planeA, planeB))
+      return true;
+    // A shaft moving along the axis of a looser bore round it never meets it.
+    if (ca >= 0 && cb >= 0 && std::abs(pa.cylinders[static_cast<std::size_t>(ca)].direction.dot(dir)) >= cosAngle && ctx->looselyCoaxial(ca, cb))
       return true;
     if (ctx->mode != FilterMode::SkipCoaxial) return false;
     // Along the common axis only: moved sideways, coaxial cylinders stop being coaxial.
