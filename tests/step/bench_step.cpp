@@ -21,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "step_first_pass.hpp"
@@ -76,9 +77,11 @@ fs::path tiled(bool thousand) {
   return f;
 }
 
-// The rig (writeRigProduct), a product unlike the tiled one: `tiles` tiles of 35 parts, in rows of at most 7.
+// The rig (writeRigProduct), a product unlike the tiled one: `tiles` tiles of 35 parts, one row of up to 7,
+// 10 as 5 x 2, 28 as 7 x 4.
 fs::path rig(int tiles) {
-  const int x = std::min(tiles, 7), y = (tiles + 6) / 7;
+  const int x = tiles == 10 ? 5 : std::min(tiles, 7), y = tiles / x;
+  if (x * y != tiles) throw std::invalid_argument("bench: no rig layout for " + std::to_string(tiles) + " tiles");
   const fs::path f = fs::temp_directory_path() / ("vaw-bench-rig-" + std::to_string(x) + "x" + std::to_string(y) + ".stp");
   if (!fs::exists(f)) vaw::steptest::writeRigProduct(f, x, y);
   return f;
