@@ -319,6 +319,20 @@ TEST(SweepDistance, PartsOnEitherSideOfAFaceTheMotionLiesInOnlyTouch) {
       firstBlockBy(w, ObjectId::part(upper), ObjectId::part(lower), translation(home, -Eigen::Vector3d::UnitZ(), 0.01), FilterMode::SkipCoaxial);
   ASSERT_EQ(down.kind, EventKind::Blocked);
   EXPECT_LT(down.s, 1e-4);
+  // A hexagonal post (r 5 mm, 40 mm high) standing on the ring: its bottom is not among its largest faces,
+  // but it lies wholly on one side of the ring's top and the ring on the other, so slid across the ring
+  // it too only touches, its side faces' lower edges on the ring's face all along.
+  ctest::SceneBuilder c;
+  const PartId ring = c.part("ring", primitives::tube(0.02, 0.005, 0.01, 48), at(0, 0, -0.005));
+  const PartId post = c.part("post", primitives::cylinder(0.005, 0.04, 6), at(0.012, 0, 0.02));
+  c.base(ring);
+  const CollisionWorld w2(c.a);
+  EXPECT_TRUE(std::isinf(w2.sweepDistance(ObjectId::part(post), at(0.012, 0, 0.02), ObjectId::part(ring), FilterMode::SkipCoplanar,
+                                          Eigen::Vector3d::UnitY())));
+  const MotionEvent across = firstBlockBy(w2, ObjectId::part(post), ObjectId::part(ring), translation(at(0.012, 0, 0.02), Eigen::Vector3d::UnitY(), 0.1),
+                                          FilterMode::SkipCoplanar);
+  EXPECT_EQ(across.kind, EventKind::None);
+  EXPECT_LE(across.evaluations, 2);
   // A millimetre into it, the overlap is found though each wall pair lies across the plane between them.
   QueryOptions q;
   q.dropTouching = true;

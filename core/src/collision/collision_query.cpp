@@ -164,22 +164,42 @@ struct PairContext {
   std::vector<Separator> separators;
   void findSeparators(const Eigen::Vector3d* dir, double sinAngle) {
     separators.clear();
-    // Only a plane both parts have a face in (within the tolerance): where they rest on each other. Any
-    // other plane would cost every node pair a test and separate little.
-    for (const int i : A->patches->largestPlanes) {
-      const PlanarPatch& pa = A->patches->planes[static_cast<std::size_t>(i)];
-      if (dir && std::abs(pa.normal.dot(*dir)) > sinAngle) continue;
-      for (const int j : B->patches->largestPlanes) {
-        const PlanarPatch& pb = B->patches->planes[static_cast<std::size_t>(j)];
-        const double room = tol.distance - std::max(pa.residual, pb.residual);
-        const Eigen::Vector3d nb = R * pb.normal, ob = R * pb.origin + T;
-        if (room < 0.0 || std::abs(pa.normal.dot(nb)) < cosAngle || std::abs(pa.normal.dot(ob - pa.origin)) > room) continue;
-        Separator s{pa.normal, pa.origin, R.transpose() * pa.normal, R.transpose() * (pa.origin - T), pa.normal.cwiseAbs(),
-                    Eigen::Vector3d::Zero(), room};
-        s.absB = s.normalB.cwiseAbs();
-        separators.push_back(s);
-        break;
+    // Only planes where the two rest on each other: one part's large face lies in one of the other's, or
+    // the two parts lie on either side of the plane, each reaching it. Any other plane would cost every
+    // node pair a test and separate little.
+    const Eigen::AlignedBox3d& boxA = (*A->nodeBox)[0];
+    const Eigen::AlignedBox3d& boxB = (*B->nodeBox)[0];
+    const auto inPlane = [&](const PlanarPatch& other, const Eigen::Vector3d& normal, const Eigen::Vector3d& origin, double room) {
+      return std::abs(normal.dot(other.normal)) >= cosAngle && std::abs(normal.dot(other.origin - origin)) <= room;
+    };
+    const auto add = [&](const PlanarPatch& p, const Eigen::Vector3d& normal, const Eigen::Vector3d& origin, bool ofA) {
+      const double room = tol.distance - p.residual;
+      if (room < 0.0 || (dir && std::abs(normal.dot(*dir)) > sinAngle)) return;
+      Separator s{normal, origin, R.transpose() * normal, R.transpose() * (origin - T), normal.cwiseAbs(), Eigen::Vector3d::Zero(), room};
+      s.absB = s.normalB.cwiseAbs();
+      const double da = s.normal.dot(boxA.center() - s.origin), ra = s.absA.dot(0.5 * boxA.sizes());
+      const double db = s.normalB.dot(boxB.center() - s.originB), rb = s.absB.dot(0.5 * boxB.sizes());
+      // Each box's side facing the other lies in the plane.
+      const auto reaches = [&](double d, double r, double side) { return std::abs(d + side * r) <= room; };
+      bool keep = (reaches(da, ra, 1.0) && reaches(db, rb, -1.0)) || (reaches(da, ra, -1.0) && reaches(db, rb, 1.0));
+      // The other part's largest faces, each in its own frame.
+      const std::vector<int>& others = ofA ? B->patches->largestPlanes : A->patches->largestPlanes;
+      for (std::size_t k = 0; !keep && k < others.size(); ++k) {
+        const PlanarPatch& q = (ofA ? B : A)->patches->planes[static_cast<std::size_t>(others[k])];
+        const double both = tol.distance - std::max(p.residual, q.residual);
+        keep = ofA ? inPlane(q, s.normalB, s.originB, both) : inPlane(q, s.normal, s.origin, both);
       }
+      for (const Separator& t : separators)
+        if (keep && std::abs(t.normal.dot(s.normal)) >= cosAngle && std::abs(t.normal.dot(s.origin - t.origin)) <= room) keep = false;
+      if (keep) separators.push_back(s);
+    };
+    for (const int k : A->patches->largestPlanes) {
+      const PlanarPatch& p = A->patches->planes[static_cast<std::size_t>(k)];
+      add(p, p.normal, p.origin, true);
+    }
+    for (const int k : B->patches->largestPlanes) {
+      const PlanarPatch& p = B->patches->planes[static_cast<std::size_t>(k)];
+      add(p, R * p.normal, R * p.origin + T, false);
     }
   }
   static bool apartAcross(const Separator& s, double da, double ra, double db, double rb) {
