@@ -12,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <locale>
+#include <functional>
 #include <map>
 #include <memory>
 #include <new>
@@ -662,6 +663,24 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   StageClock clock(options.timings);
   // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
   const std::map<std::string, std::string> units = detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, options.import, progress);
+  a.cadSplit = options.cadSplit;
+  a.cadJoin = options.cadJoin;
+  {
+    // A choice naming no sub-assembly of the file (renamed in the CAD system since it was saved) is said.
+    std::set<std::string> subAssemblies;
+    const std::function<void(const ImportedNode&)> collect = [&](const ImportedNode& n) {
+      for (const ImportedNode& c : n.children) {
+        if (!c.children.empty()) subAssemblies.insert(c.name);
+        collect(c);
+      }
+    };
+    collect(imported.root);
+    for (const auto& [field, chosen] : {std::pair{"units_apart", &options.cadSplit}, std::pair{"units_joined", &options.cadJoin}})
+      for (const std::string& n : *chosen)
+        if (!subAssemblies.count(n))
+          a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, field, "the instance name of a sub-assembly in the file",
+                                "\"" + n + "\", which names none: that choice is left out"});
+  }
   clock.mark("units");
   std::vector<Instance> instances;
   std::set<std::string> names;

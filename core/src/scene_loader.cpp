@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 #include "json_node.hpp"
 #include "load_detail.hpp"
@@ -189,7 +190,7 @@ class SceneReader {
     if (auto d = root.opt("description")) (void)d->string();
     const Node cad = root.get("cad");
     cad.requireObject();
-    cad.allowOnly({"file", "hash", "base", "units", "up"});
+    cad.allowOnly({"file", "hash", "base", "units", "up", "units_apart", "units_joined"});
     const Node fileNode = cad.get("file");
     const std::filesystem::path cadFile = dir_ / fileNode.string();
     if (const std::string problem = fileProblem(cadFile); !problem.empty())
@@ -204,6 +205,26 @@ class SceneReader {
       if (!validUpChoice(u->string())) u->fail(kUpChoices);
       opts.cadUp = u->string();
     }
+    // The units the user took apart or joined (docs/step.md, "Units"); a choice the caller makes now wins.
+    const auto names = [](const Node& list) {
+      list.requireArray();
+      std::set<std::string> out;
+      for (std::size_t i = 0; i < list.size(); ++i) {
+        const Node e = list.at(i);
+        if (!e.json().is_string() || e.string().empty()) e.fail("the instance name of a sub-assembly in the CAD file");
+        out.insert(e.string());
+      }
+      return out;
+    };
+    std::set<std::string> savedSplit, savedJoin;
+    if (auto list = cad.opt("units_apart")) savedSplit = names(*list);
+    if (auto list = cad.opt("units_joined")) savedJoin = names(*list);
+    for (const std::string& n : savedSplit)
+      if (!options_.cadJoin.count(n)) opts.cadSplit.insert(n);
+    for (const std::string& n : savedJoin)
+      if (!options_.cadSplit.count(n)) opts.cadJoin.insert(n);
+    // The saved constraints name the parts those units gave: with other units they are found anew.
+    const bool unitsChanged = opts.cadSplit != savedSplit || opts.cadJoin != savedJoin;
     // The unit assumed for a mesh file, which declares none.
     if (auto u = cad.opt("units")) {
       const auto unit = parseLengthUnit(u->string());
@@ -226,7 +247,10 @@ class SceneReader {
     const std::string savedHash = cad.has("hash") ? cad.get("hash").string() : std::string();
     // The saved constraints are relative to the saved base: with another one they are found anew.
     const bool rebased = options_.cadBase && (!cad.has("base") || cad.get("base").string() != *options_.cadBase);
-    if (auto cons = root.opt("constraints"); cons && !rebased) {
+    if (auto cons = root.opt("constraints"); cons && unitsChanged && !rebased) {
+      assembly_.warnings.push_back({Diagnostic::Severity::Warning, file_, "cad.units_apart", "the units the scene was saved with",
+                                    "other units chosen now: the constraints were found anew and the saved ones not applied"});
+    } else if (cons && !rebased) {
       // A scene saved before file hashes were XXH3 holds FNV-1a's: that file is hashed again the old way.
       const bool unchanged = savedHash == assembly_.cadHash || (savedHash.starts_with("fnv1a64:") && savedHash == fileContentHashFnv(cadFile));
       if (unchanged) {

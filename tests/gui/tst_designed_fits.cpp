@@ -9,10 +9,12 @@
 #include <QHeaderView>
 #include <QLabel>
 #include <QMenu>
+#include <QMenuBar>
 #include <QPushButton>
 #include <QSignalSpy>
 #include <QStandardItemModel>
 #include <QTableView>
+#include <QTemporaryDir>
 #include <QtTest>
 #include <memory>
 
@@ -202,9 +204,28 @@ void TestDesignedFits::aBearingIsOneUnitUntilTakenApart() {
   QSignalSpy loaded(controller_.get(), &AssemblyController::assemblyLoaded);
   QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(apart).center());
   QVERIFY(loaded.wait(60000) || !loaded.isEmpty());
-  QFile::remove(file);
   QCOMPARE(assembly().parts.size(), std::size_t{12});
   QVERIFY(assembly().findPart("ball-4").has_value());
+
+  // Saved (File > Save As) and opened again, it is still apart: the choice went with the scene.
+  // A folder of its own: the file dialog lists the folder it opens in.
+  QTemporaryDir dir;
+  QVERIFY(dir.isValid());
+  const QString scene = dir.filePath(QStringLiteral("bearing-apart.vaw.json"));
+  vaw::guitest::whenModal([scene](QWidget* w) { vaw::guitest::answerFileDialog(w, scene); });
+  QMenuBar* bar = window_->menuBar();
+  QAction* fileMenu = bar->actions().value(0);
+  QVERIFY(fileMenu != nullptr && fileMenu->menu() != nullptr);
+  QTest::mouseClick(bar, Qt::LeftButton, {}, bar->actionGeometry(fileMenu).center());
+  QTRY_VERIFY_WITH_TIMEOUT(fileMenu->menu()->isVisible(), 5000);
+  QAction* saveAs = window_->findChild<QAction*>(QStringLiteral("saveAsAction"));
+  QVERIFY(saveAs != nullptr && saveAs->isEnabled());
+  QTest::mouseClick(fileMenu->menu(), Qt::LeftButton, {}, fileMenu->menu()->actionGeometry(saveAs).center());
+  QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(scene), 10000);
+  open(scene);
+  QCOMPARE(assembly().parts.size(), std::size_t{12});
+  QVERIFY(assembly().findPart("ring-outer").has_value());
+  QFile::remove(file);
 }
 
 void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,8 @@
 #include "vaw/fits.hpp"
 #include "vaw/report/report.hpp"
 #include "vaw/scene_loader.hpp"
+#include "vaw/sim/scene_file.hpp"
+#include "vaw/sim/world.hpp"
 
 namespace {
 
@@ -270,6 +273,55 @@ TEST(BearingUnit, ABearingWithItsBallsIsOnePartAndGoesInWhole) {
   EXPECT_EQ(parts.parts.size(), 12u);
   EXPECT_TRUE(parts.findPart("ball-1").has_value());
   EXPECT_TRUE(parts.parts[*parts.findPart("ring-inner")].unitMembers.empty());
+}
+
+TEST(Units, TheUsersChoicesAreSavedWithTheSceneAndWhatNamesNoSubAssemblyIsSaid) {
+  const fs::path file = vaw::test::tempDir() / "bearing-saved-apart.stp";
+  vaw::steptest::writeBearingInHousing(file);
+  vaw::LoadOptions apart;
+  apart.cadSplit = {"bearing"};
+  const Assembly a = vaw::loadAny(file, vaw::test::importers(), apart);
+  ASSERT_EQ(a.parts.size(), 12u);
+  const fs::path scene = file.parent_path() / "bearing-saved-apart.vaw.json";
+  vaw::sim::saveScene(a, vaw::sim::World(a, vaw::sim::settingsFor(a)), scene);
+  std::ifstream in(scene);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("\"units_apart\": [\n      \"bearing\"\n    ]"), std::string::npos) << text;
+  // Opened again, the bearing stays apart; asked now to be one unit, it is one, and saved so.
+  const Assembly b = load(scene);
+  EXPECT_EQ(b.parts.size(), 12u);
+  EXPECT_EQ(b.cadSplit, (std::set<std::string>{"bearing"}));
+  vaw::LoadOptions whole;
+  whole.cadJoin = {"bearing"};
+  const Assembly c = vaw::loadAny(scene, vaw::test::importers(), whole);
+  EXPECT_EQ(c.parts.size(), 3u);
+  EXPECT_TRUE(c.cadSplit.empty());
+  // Its saved constraints named the rings: with the unit they are found anew, and that is said.
+  EXPECT_TRUE(std::any_of(c.warnings.begin(), c.warnings.end(), [](const vaw::Diagnostic& w) { return w.field == "cad.units_apart"; }));
+  EXPECT_TRUE(std::any_of(c.constraints.begin(), c.constraints.end(), [&](const Constraint& k) { return c.parts[k.part].name == "bearing"; }));
+
+  // A scene naming a sub-assembly the file no longer has opens with a warning naming it.
+  const fs::path stale = file.parent_path() / "bearing-renamed.vaw.json";
+  std::ofstream(stale) << R"({"format": "vaw-scene", "version": 3, "name": "renamed", "units": "m",
+    "cad": {"file": "bearing-saved-apart.stp", "units_apart": ["bearing-608"]}})";
+  const Assembly d = load(stale);
+  EXPECT_EQ(d.parts.size(), 3u);
+  const auto said = std::find_if(d.warnings.begin(), d.warnings.end(), [](const vaw::Diagnostic& w) { return w.field == "units_apart"; });
+  ASSERT_NE(said, d.warnings.end());
+  EXPECT_NE(said->found.find("\"bearing-608\", which names none"), std::string::npos) << said->found;
+
+  // A name that is no string is refused, naming the field.
+  std::string bad = text;
+  bad.replace(bad.find("\"bearing\"\n    ]"), 9, "3");
+  const fs::path broken = file.parent_path() / "bearing-broken.vaw.json";
+  std::ofstream(broken) << bad;
+  try {
+    (void)load(broken);
+    ADD_FAILURE() << "a number as a sub-assembly's name was accepted";
+  } catch (const vaw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cad.units_apart[0]"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the instance name of a sub-assembly"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Units, ASubAssemblyThatComesApartIsPartsUnlessJoined) {

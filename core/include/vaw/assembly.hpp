@@ -6,6 +6,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -160,6 +161,9 @@ struct Assembly {
   std::string cadUp = "auto";
   Eigen::Vector3d cadUpAxis = Eigen::Vector3d::UnitZ();
   Eigen::Matrix3d cadTurn = Eigen::Matrix3d::Identity();  // the file's directions -> the table's, as loaded
+  // The user's choices of units (docs/step.md, "Units"): sub-assemblies, by instance name, handled as parts
+  // although they form a unit, and handled as one unit although they come apart; saved with the scene.
+  std::set<std::string> cadSplit, cadJoin;
   LengthUnit units = LengthUnit::Metre;
   std::map<std::string, Material> materials;
   std::vector<Part> parts;

@@ -92,6 +92,8 @@ void saveCadScene(const Assembly& loaded, const World& world, const std::filesys
   Ordered cadJson{{"file", rel.empty() ? cad.generic_string() : rel.generic_string()}, {"hash", loaded.cadHash}};
   if (loaded.base) cadJson["base"] = loaded.parts[*loaded.base].name;
   if (loaded.cadUp != "auto") cadJson["up"] = loaded.cadUp;
+  if (!loaded.cadSplit.empty()) cadJson["units_apart"] = std::vector<std::string>(loaded.cadSplit.begin(), loaded.cadSplit.end());
+  if (!loaded.cadJoin.empty()) cadJson["units_joined"] = std::vector<std::string>(loaded.cadJoin.begin(), loaded.cadJoin.end());
   // A mesh file declares no unit: the one assumed when it was opened goes with it.
   if (!loaded.parts.empty() && loaded.parts.front().massSource == MassSource::Mesh) cadJson["units"] = std::string(name(loaded.units));
   Ordered constraints = Ordered::array();
