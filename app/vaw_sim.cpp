@@ -134,6 +134,12 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
       if (c.type == vaw::Constraint::Type::Insert) {
         j["found"]["part_radius_m"] = c.found->partRadius;
         j["found"]["partner_radius_m"] = c.found->partnerRadius;
+        j["found"]["fit"] = std::string(vaw::name(c.found->fit));
+        if (!c.found->thread.empty()) j["found"]["thread"] = c.found->thread;
+        if (c.found->seat != vaw::Constraint::Found::Seat::None) {
+          j["found"]["seat"] = std::string(vaw::name(c.found->seat));
+          j["found"]["seat_radius_m"] = c.found->seatRadius;
+        }
       }
     }
     if (f.support.kind == vaw::collision::Support::Kind::Axis && f.support.problem.empty())

@@ -13,6 +13,14 @@ std::string_view name(Constraint::Type t) {
   return "?";
 }
 
+std::string_view name(Constraint::Found::Seat s) {
+  switch (s) {
+    case Constraint::Found::Seat::None: return "none";
+    case Constraint::Found::Seat::Counterbore: return "counterbore";
+  }
+  return "none";
+}
+
 std::string_view name(Constraint::Found::Fit f) {
   switch (f) {
     case Constraint::Found::Fit::Clearance: return "clearance";

@@ -319,6 +319,11 @@ std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, c
       continue;
     }
     const double overlap = same->found.overlap + f.found.overlap;
+    // Two diameters on one axis (a head in a counterbore over its shank's hole): the larger bore is kept as
+    // a counterbore's, which a seat under the head confirms (seatsInCounterbores).
+    const double outer = std::max(f.found.partRadius, f.found.partnerRadius);
+    const double before = std::max(same->found.partRadius, same->found.partnerRadius);
+    const double stepped = std::abs(outer - before) > tol.distance ? std::max({outer, before, same->found.seatRadius}) : same->found.seatRadius;
     // The fit that holds: a designed interference (a counterbored head's play above a thread does not), else
     // the tightest.
     const auto interference = [](const FoundConstraint& x) { return x.found.fit != Constraint::Found::Fit::Clearance; };
@@ -331,8 +336,22 @@ std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, c
     }
     same->found.overlap = overlap;
     same->found.fromSpline = same->found.fromSpline || f.found.fromSpline;
+    if (f.type == Constraint::Type::Insert) same->found.seatRadius = stepped;
   }
   return out;
+}
+
+// A stepped insert is a head in a counterbore when the pair also has a seat across its axis (the head's
+// underside on the counterbore's floor); otherwise it is a stepped fit and no counterbore.
+void seatsInCounterbores(std::vector<FoundConstraint>& found, const RecognitionTolerances& tol) {
+  for (FoundConstraint& f : found) {
+    if (f.type != Constraint::Type::Insert || f.found.seatRadius <= 0.0) continue;
+    const bool seated = std::any_of(found.begin(), found.end(), [&](const FoundConstraint& m) {
+      return m.type == Constraint::Type::Mate && m.a == f.a && m.b == f.b && std::abs(m.direction.dot(f.direction)) >= std::cos(tol.angle);
+    });
+    if (seated) f.found.seat = Constraint::Found::Seat::Counterbore;
+    else f.found.seatRadius = 0.0;
+  }
 }
 
 }  // namespace
@@ -470,7 +489,9 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
       for (const WorldFace& y : planes[j])
         if (testMate(parts[i], x, parts[j], y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
   }
-  return onePerContact(std::move(out), tol);
+  std::vector<FoundConstraint> found = onePerContact(std::move(out), tol);
+  seatsInCounterbores(found, tol);
+  return found;
 }
 
 std::optional<std::size_t> faceAt(const CadSolid& s, const Eigen::Vector3d& point, double tolerance) {

@@ -504,7 +504,7 @@ class SceneReader {
   // What recognition measured, kept with a saved CAD scene (lengths in the scene's unit, areas in its square).
   Constraint::Found readFound(const Node& n, Constraint::Type type) {
     n.requireObject();
-    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline", "fit", "interference", "thread"});
+    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline", "fit", "interference", "thread", "seat", "seat_radius"});
     Constraint::Found f;
     const double L = units_.L;
     if (auto x = n.opt("part_radius")) f.partRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
@@ -524,6 +524,11 @@ class SceneReader {
     }
     if (auto x = n.opt("interference")) f.interference = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
     if (auto x = n.opt("thread")) f.thread = x->string();
+    if (auto x = n.opt("seat")) {
+      if (x->string() == "counterbore") f.seat = Constraint::Found::Seat::Counterbore;
+      else if (x->string() != "none") x->fail("\"none\" or \"counterbore\"");
+    }
+    if (auto x = n.opt("seat_radius")) f.seatRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
     return f;
   }
 

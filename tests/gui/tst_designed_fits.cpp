@@ -120,6 +120,26 @@ void TestDesignedFits::aCapScrewGoesHomeThroughItsTappedHole() {
   // Every fit taken: no near miss in the Constraints panel.
   QTRY_VERIFY_WITH_TIMEOUT(!window_->constraintsDock()->findingNearMisses(), 20000);
   QCOMPARE(window_->constraintsDock()->nearMissModel()->rowCount(), 0);
+  // The panel names each insert's fit: the cap screw's thread at the tap drill into the base, its head in
+  // the bracket's counterbore.
+  {
+    vaw::ui::ConstraintsDock* constraints = window_->constraintsDock();
+    constraints->raise();
+    const auto* model = constraints->model();
+    QStringList fits;
+    for (int row = 0; row < model->rowCount(); ++row) {
+      const QString who = model->index(row, vaw::ui::ConstraintsModel::PartColumn).data().toString() + QStringLiteral(" on ") +
+                          model->index(row, vaw::ui::ConstraintsModel::PartnerColumn).data().toString();
+      fits << who + QStringLiteral(": ") + model->index(row, vaw::ui::ConstraintsModel::FitColumn).data().toString();
+    }
+    QVERIFY2(fits.contains(QStringLiteral("cap-screw-1 on base (base): threaded M6")), qPrintable(fits.join(QLatin1Char('\n'))));
+    QVERIFY2(fits.contains(QStringLiteral("cap-screw-1 on bracket: clearance, counterbore")), qPrintable(fits.join(QLatin1Char('\n'))));
+    QVERIFY2(fits.contains(QStringLiteral("dowel-1 on base (base): press")), qPrintable(fits.join(QLatin1Char('\n'))));
+    const int row = static_cast<int>(fits.indexOf(QStringLiteral("cap-screw-1 on bracket: clearance, counterbore")));
+    constraints->view()->scrollTo(model->index(row, 0), QAbstractItemView::PositionAtTop);
+    QTest::qWait(200);
+    vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-fits-panel.png"));
+  }
 
   // As a fitter: the dowels pressed into the base, the bracket over them, a cap screw into its counterbore
   // and on down through its thread at the tap drill: home, PLACED.

@@ -120,7 +120,13 @@ TEST_P(FastenedBlock, EveryFitRecognisedWithItsKind) {
     ASSERT_NE(counterbore, nullptr) << screw;
     EXPECT_EQ(counterbore->found->fit, Fit::Clearance);
     EXPECT_NEAR(counterbore->found->clearance, 0.2e-3, 1e-7) << "the shank's clearance, the tighter of the counterbore's two";
+    EXPECT_EQ(counterbore->found->seat, Constraint::Found::Seat::Counterbore) << screw;
+    EXPECT_NEAR(counterbore->found->seatRadius, 5.5e-3, 1e-7);
+    EXPECT_EQ(thread->found->seat, Constraint::Found::Seat::None) << "a thread is no counterbore";
   }
+  int counterbores = 0;
+  for (const Constraint& c : a.constraints) counterbores += c.found && c.found->seat == Constraint::Found::Seat::Counterbore ? 1 : 0;
+  EXPECT_EQ(counterbores, 2) << "the dowels' and the countersunk screws' fits are no counterbores";
   for (const char* screw : {"csk-screw-1", "csk-screw-2"}) {
     const Constraint* thread = insertBetween(a, screw, "bracket");
     ASSERT_NE(thread, nullptr) << screw;
@@ -187,6 +193,22 @@ TEST_P(FastenedBlock, OrderAsAFitterPutsItTogether) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Styles, FastenedBlock, ::testing::ValuesIn(kVariants), label);
+
+TEST(FastenedBlockScene, FitsAndSeatsAreSavedWithTheScene) {
+  const fs::path file = vaw::test::tempDir() / "fastened-saved.stp";
+  vaw::steptest::writeFastenedBlock(file);
+  const Assembly a = load(file);
+  const fs::path scene = file.parent_path() / "fastened-saved.vaw.json";
+  vaw::sim::saveScene(a, vaw::sim::World(a, vaw::sim::settingsFor(a)), scene);
+  const Assembly b = load(scene);
+  ASSERT_EQ(b.constraints.size(), a.constraints.size());
+  for (std::size_t i = 0; i < a.constraints.size(); ++i) {
+    ASSERT_TRUE(b.constraints[i].found.has_value());
+    EXPECT_EQ(b.constraints[i].found->fit, a.constraints[i].found->fit) << a.constraints[i].name;
+    EXPECT_EQ(b.constraints[i].found->seat, a.constraints[i].found->seat) << a.constraints[i].name;
+    EXPECT_NEAR(b.constraints[i].found->seatRadius, a.constraints[i].found->seatRadius, 1e-12);
+  }
+}
 
 TEST(FastenedBlockClash, AClashIsMeasuredShownAndPassedThroughWithANote) {
   const fs::path file = vaw::test::tempDir() / "fastened-clash.stp";

@@ -61,6 +61,15 @@ QString direction(const Eigen::Vector3d& d) {
   return QStringLiteral("(%1, %2, %3)").arg(c(d.x()), c(d.y()), c(d.z()));
 }
 
+// An insert's fit as a fitter names it ("threaded M6", "clearance, counterbore"); a mate has none.
+QString fitText(const vaw::Constraint& c) {
+  if (c.type != vaw::Constraint::Type::Insert || !c.found) return QStringLiteral("—");
+  QString text = str(vaw::name(c.found->fit));
+  if (!c.found->thread.empty()) text += QLatin1Char(' ') + str(c.found->thread);
+  if (c.found->seat != vaw::Constraint::Found::Seat::None) text += QStringLiteral(", ") + str(vaw::name(c.found->seat));
+  return text;
+}
+
 QString geometryText(const vaw::Assembly& a, const vaw::Constraint& c) {
   const Eigen::Isometry3d Q = assembledPose(a, partnerOf(a, c));
   if (c.type == vaw::Constraint::Type::Insert) {
@@ -164,6 +173,7 @@ QVariant ConstraintsModel::headerData(int section, Qt::Orientation orientation, 
       case PartColumn: return tr("Part");
       case PartnerColumn: return tr("Partner");
       case KindColumn: return tr("Kind");
+      case FitColumn: return tr("Fit");
       case GeometryColumn: return tr("Geometry");
       case ClearanceColumn: return tr("Clearance");
       case OverlapColumn: return tr("Overlap");
@@ -175,6 +185,9 @@ QVariant ConstraintsModel::headerData(int section, Qt::Orientation orientation, 
     switch (section) {
       case PartColumn: return tr("The part the constraint guides home");
       case PartnerColumn: return tr("What it goes onto: another part, or the base");
+      case FitColumn:
+        return tr("How an insert's shaft sits in its bore: with play (clearance), a screw at its nominal size in a hole "
+                  "modelled at its tap drill (threaded), a press fit; and a head in a counterbore");
       case GeometryColumn:
         return tr(
             "The partner's axis (insert) or face plane (mate, align), in world coordinates with the partner at "
@@ -200,6 +213,7 @@ QVariant ConstraintsModel::data(const QModelIndex& index, int role) const {
       case PartColumn: return str(a.parts[c.part].name);
       case PartnerColumn: return c.partner ? str(a.parts[partner].name) : tr("%1 (base)").arg(str(a.parts[partner].name));
       case KindColumn: return str(vaw::name(c.type));
+      case FitColumn: return fitText(c);
       case GeometryColumn: return geometryText(a, c);
       case ClearanceColumn:
         if (!insert || !c.found) return QStringLiteral("—");
@@ -218,6 +232,16 @@ QVariant ConstraintsModel::data(const QModelIndex& index, int role) const {
       case PartColumn:
       case PartnerColumn:
       case KindColumn: return str(c.name);
+      case FitColumn:
+        if (!insert || !c.found) return {};
+        if (c.found->seat == vaw::Constraint::Found::Seat::Counterbore)
+          return tr("The head sits in a counterbore of radius %1 mm, on its floor; the shank's fit is the tighter of the two")
+              .arg(fixed(c.found->seatRadius * 1000.0, 3));
+        if (c.found->fit == vaw::Constraint::Found::Fit::Threaded)
+          return tr("Modelled at the tap drill: the shaft is %1 mm larger in radius than the hole, a thread's depth").arg(fixed(c.found->interference * 1000.0, 3));
+        if (c.found->fit == vaw::Constraint::Found::Fit::Press)
+          return tr("A press fit: the shaft is %1 mm larger in radius than the bore").arg(fixed(c.found->interference * 1000.0, 3));
+        return tr("Radial play %1 mm").arg(fixed(c.found->clearance * 1000.0, 3));
       case GeometryColumn:
         return tr("%1\nWorld coordinates, %2 at its assembled pose.").arg(geometryText(a, c), str(a.parts[partner].name));
       case ClearanceColumn:

@@ -98,6 +98,11 @@ struct Constraint {
     Fit fit = Fit::Clearance;
     double interference = 0.0;  // m, radial: the shaft's radius less the bore's (Threaded, Press)
     std::string thread;         // Threaded: "M6", "1/4-20 UNC"
+    // Where a head sits as it goes home: in a counterbore, a larger bore on the same axis with its floor
+    // under the head (docs/step.md, "Fits as designers model them").
+    enum class Seat { None, Counterbore };
+    Seat seat = Seat::None;
+    double seatRadius = 0.0;  // m: the counterbore's radius
   };
   std::optional<Found> found;
   // The direction the part comes home from, in the partner's frame: it travels along -homeDirection
@@ -107,6 +112,7 @@ struct Constraint {
 };
 std::string_view name(Constraint::Type t);
 std::string_view name(Constraint::Found::Fit f);
+std::string_view name(Constraint::Found::Seat s);
 
 // A tool that lifts parts too heavy for the hands (docs/scene-format.md, "Tools"): a hook on a vertical
 // line at a fixed (x, y) that rises, lowers and turns about the vertical, and takes a tool-lifted part

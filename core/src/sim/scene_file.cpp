@@ -61,6 +61,10 @@ Ordered constraintJson(const Assembly& a, const Constraint& c) {
         f["interference"] = c.found->interference;
         if (!c.found->thread.empty()) f["thread"] = c.found->thread;
       }
+      if (c.found->seat != Constraint::Found::Seat::None) {
+        f["seat"] = std::string(name(c.found->seat));
+        f["seat_radius"] = c.found->seatRadius;
+      }
     }
     j["found"] = f;
   }

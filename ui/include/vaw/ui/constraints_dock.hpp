@@ -50,6 +50,7 @@ class ConstraintsModel : public QAbstractTableModel {
     PartColumn,
     PartnerColumn,
     KindColumn,
+    FitColumn,
     GeometryColumn,
     ClearanceColumn,
     OverlapColumn,
