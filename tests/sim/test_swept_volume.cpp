@@ -1,7 +1,8 @@
 // The swept volume of a path (docs/swept-volume.md) against closed forms. What the voxels guarantee:
 // every point of the true swept volume lies in an occupied voxel (conservative), and an occupied voxel's
 // box, grown by at most a quarter voxel where the part turns, meets the part somewhere on its way, so the
-// surface lies at most 1.25 voxels beyond the true one along each axis. Each test checks (a) points of the exact solid are inside, (b) every
+// surface lies within sqrt(3) + 1/4 voxels of the true one (1.25 voxels along each axis on a straight path;
+// docs/swept-volume.md has every source of the bound). Each test checks (a) points of the exact solid are inside, (b) every
 // surface vertex lies outside the exact solid's interior and within the bound beyond it, (c) the volume
 // lies between the exact one and that of the exact solid grown by the bound.
 #include <gtest/gtest.h>
@@ -111,6 +112,29 @@ TEST(SweptVolume, ABoxTranslatedAlongALineFillsItsPrism) {
   EXPECT_EQ(sv.moves, 1U);  // a straight move, swept whole
 }
 
+TEST(SweptVolume, ATessellationsSagGrowsTheVolumeAllRound) {
+  // The box of the test above as a CAD part whose true surface may lie 0.3 mm outside its facets: every
+  // point within 0.3 mm of the prism is inside, and the surface stays within the bound plus 0.3 mm.
+  const double h = 0.001, sag = 0.0003, grow = 1.25 * h + sag;
+  const TriMesh box = primitives::box({0.020, 0.010, 0.010});
+  const Eigen::Vector3d start(0.00013, 0.00041, -0.00027);
+  const SweptVolume plain = sweep(box, {{at(start.x(), start.y(), start.z()), at(start.x() + 0.050, start.y(), start.z())}}, h);
+  const SweptVolume sv = sweep(box, {{at(start.x(), start.y(), start.z()), at(start.x() + 0.050, start.y(), start.z())}}, h, kMaxSweepVoxels, sag);
+  const Eigen::AlignedBox3d prism(start + Eigen::Vector3d(-0.010, -0.005, -0.005), start + Eigen::Vector3d(0.060, 0.005, 0.005));
+  const Eigen::AlignedBox3d sagged(prism.min().array() - sag, prism.max().array() + sag);
+  for (double x = 0.0; x <= 1.0; x += 0.05)
+    for (double y = 0.0; y <= 1.0; y += 0.1)
+      for (double z = 0.0; z <= 1.0; z += 0.1) {
+        const Eigen::Vector3d p = sagged.min() + Eigen::Vector3d(x, y, z).cwiseProduct(sagged.sizes());
+        ASSERT_TRUE(sv.contains(p)) << p.transpose();
+      }
+  EXPECT_GT(sv.volume, plain.volume);
+  const Eigen::AlignedBox3d outer(prism.min().array() - grow - 1e-9, prism.max().array() + grow + 1e-9);
+  for (const Eigen::Vector3d& v : sv.mesh.vertices) ASSERT_TRUE(outer.contains(v)) << v.transpose();
+  expectClosedAndWhole(sv);
+  EXPECT_THROW(sweep(box, {{at(0, 0, 0)}}, h, kMaxSweepVoxels, -1e-3), std::invalid_argument);
+}
+
 TEST(SweptVolume, ACylinderTurnedAboutItsOwnAxisSweepsItself) {
   // 64 sides of radius 10 mm, 20 mm high, turned a whole turn about its axis (tilted, off the origin): the
   // round cylinder through its corners.
@@ -124,7 +148,7 @@ TEST(SweptVolume, ACylinderTurnedAboutItsOwnAxisSweepsItself) {
   for (int k = 0; k <= 8; ++k) run[k].linear() = run[k].linear() * toAxis.toRotationMatrix();
   const SweptVolume sv = sweep(cyl, {run}, h);
 
-  const double bound = 1.25 * std::sqrt(3.0) * h;  // the per-axis bound, in any direction
+  const double bound = (std::sqrt(3.0) + 0.25) * h;  // a voxel's diagonal and the stray
   const double exact = kPi * r * r * height;
   EXPECT_GE(sv.volume, exact);
   EXPECT_LE(sv.volume, kPi * (r + bound) * (r + bound) * (height + 2 * bound));
@@ -167,7 +191,7 @@ TEST(SweptVolume, ASphereAlongAPolylineIsAChainOfCapsules) {
   };
   // The mesh lies between the sphere through its corners and a sphere within its faces.
   const double inside = r * std::cos(kPi / segments) * std::cos(kPi / rings);
-  const double bound = 1.25 * std::sqrt(3.0) * h;
+  const double bound = (std::sqrt(3.0) + 0.25) * h;
   EXPECT_GE(sv.volume, chain(inside));
   EXPECT_LE(sv.volume, chain(r + bound));
   for (double s = 0.0; s <= 1.0; s += 0.02)
@@ -297,7 +321,7 @@ TEST(SweptVolume, RelativeToATurningBaseTheHeldPartSweepsAnArcOnIt) {
   const SweptVolume onBase = sweptVolume(scene, s, ball, o);
 
   const double r = 0.005, rho = 0.060, inside = r * std::cos(kPi / 32) * std::cos(kPi / 16);
-  const double bound = 1.25 * std::sqrt(3.0) * o.voxel;
+  const double bound = (std::sqrt(3.0) + 0.25) * o.voxel;
   const auto ballVolume = [](double radius) { return 4.0 / 3.0 * kPi * std::pow(radius, 3); };
   // Held still in the world: the ball itself.
   EXPECT_GE(still.volume, ballVolume(inside));

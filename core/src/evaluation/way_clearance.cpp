@@ -187,7 +187,7 @@ std::vector<WayClearance> wayClearances(const Assembly& assembly, const Sequence
       Eigen::Isometry3d start = home[p];
       start.pretranslate(d.length * d.out);
       try {
-        w.swept = sim::sweep(*assembly.parts[p].mesh, {{start, home[p]}}, options.voxel);
+        w.swept = sim::sweep(*assembly.parts[p].mesh, {{start, home[p]}}, options.voxel, sim::kMaxSweepVoxels, sim::tessellationSag(assembly.parts[p]));
         w.swept->mesh = TriMesh();
       } catch (const std::invalid_argument& e) {
         fail(file, "voxel", "a grid vaw can hold for " + assembly.parts[p].name + "'s way home", e.what());

@@ -14,6 +14,7 @@
 #include <unordered_map>
 
 #include "vaw/error.hpp"
+#include "vaw/importer.hpp"
 #include "vaw/limits.hpp"
 #include "vaw/sim/carried_path.hpp"
 #include "vaw/sim/scene.hpp"
@@ -305,15 +306,19 @@ TriMesh SweptVolume::surface() const {
   return m;
 }
 
+double tessellationSag(const Part& part) { return part.cad ? std::max(0.0, part.cad->deflection) : 0.0; }
+
 std::uint64_t sweepVoxelsInMemory(double memoryMB) {
   const double bytes = (memoryMB > 0.0 ? memoryMB : limits::defaultMemoryMB()) * 1048576.0;
   const double voxels = bytes * 8.0 / 3.0;
   return voxels >= static_cast<double>(kMaxSweepVoxels) ? kMaxSweepVoxels : static_cast<std::uint64_t>(std::max(voxels, 0.0));
 }
 
-SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel, std::uint64_t maxVoxels) {
+SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel, std::uint64_t maxVoxels,
+                  double margin) {
   maxVoxels = std::min(maxVoxels, kMaxSweepVoxels);
   if (!(voxel > 0.0) || !std::isfinite(voxel)) throw std::invalid_argument("the voxel must be a positive length, not " + std::to_string(voxel));
+  if (!(margin >= 0.0) || !std::isfinite(margin)) throw std::invalid_argument("the margin must be a length of 0 or more, not " + std::to_string(margin));
   if (mesh.vertices.empty() || mesh.triangles.empty()) throw std::invalid_argument("the mesh to sweep has no triangles");
   const Eigen::AlignedBox3d local = mesh.bounds();
   const Eigen::Vector3d centre = local.center();
@@ -377,6 +382,7 @@ SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isom
         box.extend(Eigen::AlignedBox3d(c.array() - radius - leg.off, c.array() + radius + leg.off));
   }
   if (legs.empty()) throw std::invalid_argument("the path has no poses");
+  box = Eigen::AlignedBox3d(box.min().array() - margin, box.max().array() + margin);
   const auto gridAt = [&](double v) {
     const Eigen::Vector3d o = ((box.min().array() / v).floor() - 2.0).matrix() * v;
     return std::pair{o, Eigen::Vector3d(((box.max() - o) / v).array().ceil() + 3.0)};
@@ -423,7 +429,7 @@ SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isom
       p.translation() = c0 + s * (c1 - c0) - p.linear() * centre;
       return p;
     };
-    const double stray = (radius * (1.0 - std::cos(0.5 * turn / n)) + leg.off) / voxel;
+    const double stray = (radius * (1.0 - std::cos(0.5 * turn / n)) + leg.off + margin) / voxel;
     for (int k = 0; k < n; ++k) moves.push_back({k == 0 ? a : at(static_cast<double>(k) / n), k + 1 == n ? b : at(static_cast<double>(k + 1) / n), stray});
   }
   Bits shell(span.cast<int>());
@@ -512,7 +518,7 @@ class PathPoses {
     // The part's collision mesh is what it occupies in the simulation: the same one the clearance measures.
     SweptVolume sv;
     try {
-      sv = sweep(*a_.parts[part_].mesh, runs_, options_.voxel, sweepVoxelsInMemory(options_.memoryMB));
+      sv = sweep(*a_.parts[part_].mesh, runs_, options_.voxel, sweepVoxelsInMemory(options_.memoryMB), tessellationSag(a_.parts[part_]));
     } catch (const std::invalid_argument& e) {
       fail(file_, "voxel", "a grid vaw can hold", e.what());
     }

@@ -51,8 +51,13 @@ inline constexpr std::uint64_t kMaxSweepMoves = 20'000'000;
 // rotation turning the shortest way, and every pose in between is in the result. Throws std::invalid_argument for a voxel that is
 // not a positive finite length, no poses, a non-finite pose, or a grid over `maxVoxels` (at most
 // kMaxSweepVoxels) or a path of more than kMaxSweepMoves moves, naming the voxel that would fit.
+// `margin` (m) grows the volume all round: how far the true surface may lie outside `mesh` (a CAD part's
+// tessellation, whose facets lie up to its chordal deflection inside its curved faces: tessellationSag).
 SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isometry3d>>& runs, double voxel,
-                  std::uint64_t maxVoxels = kMaxSweepVoxels);
+                  std::uint64_t maxVoxels = kMaxSweepVoxels, double margin = 0.0);
+// How far a part's true surface may lie outside its mesh: a CAD part's chordal deflection (its facets
+// are chords of its curved faces), 0 for a mesh that is the part.
+double tessellationSag(const Part& part);
 
 // The most voxels a grid may hold in `memoryMB` (0: half the machine's memory): three bits a voxel while
 // the sweep works (the marks, the outside, the result), and never more than kMaxSweepVoxels.
