@@ -177,6 +177,17 @@ TEST(LargeProduct, AnOrderPutsEveryPartInPlaceKeepingEveryTruePrecedence) {
               plan.sweeps, plan.reused, plan.evaluations);
 }
 
+// Each of a product's x * y tiles got what the first got (counted per kind across the product), nothing
+// else, and no near miss anywhere.
+void expectEveryTileAsTheFirst(const Assembly& a, const std::map<std::string, int>& perTile, std::map<std::string, int> counted, int x,
+                               int y) {
+  for (const auto& [kind, n] : perTile) EXPECT_EQ(counted[kind], n * x * y) << kind << " on " << x << " x " << y << " tiles";
+  EXPECT_EQ(counted.size(), perTile.size()) << x << " x " << y;
+  std::vector<vaw::RecognitionPart> parts;
+  for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
+  EXPECT_TRUE(vaw::nearMisses(parts).empty()) << x << " x " << y;
+}
+
 // Recognition does not depend on a part's size (docs/step.md, "Large products"): the same tile on a base
 // plate that grows from one tile to ten, and to ten by two, with two holes per tile that nothing goes into,
 // gets exactly the same constraints, tile for tile, kind for kind, none of them onto an empty hole; no near
@@ -199,11 +210,7 @@ TEST(LargeProduct, RecognitionIsTheSameTileForTileAsTheBaseGrows) {
       EXPECT_EQ(std::accumulate(perTile.begin(), perTile.end(), 0, [](int n, const auto& e) { return n + e.second; }), 38);
       continue;
     }
-    for (const auto& [kind, n] : perTile) EXPECT_EQ(counted[kind], n * tiles) << kind << " on " << x << " x " << y << " tiles";
-    EXPECT_EQ(counted.size(), perTile.size()) << x << " x " << y;
-    std::vector<vaw::RecognitionPart> parts;
-    for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
-    EXPECT_TRUE(vaw::nearMisses(parts).empty()) << x << " x " << y;
+    expectEveryTileAsTheFirst(a, perTile, counted, x, y);
   }
 }
 
@@ -243,11 +250,7 @@ TEST(RigProduct, RecognitionIsTheSameTileForTileOnEveryPlate) {
       EXPECT_EQ((counted["insert bolt-1 on plate r 5.00/5.25 mm"]), 4);
       continue;
     }
-    for (const auto& [kind, n] : perTile) EXPECT_EQ(counted[kind], n * tiles) << kind << " on " << x << " x " << y << " tiles";
-    EXPECT_EQ(counted.size(), perTile.size()) << x << " x " << y;
-    std::vector<vaw::RecognitionPart> parts;
-    for (const auto& p : a.parts) parts.push_back({p.cad, p.finalPose.value_or(p.pose)});
-    EXPECT_TRUE(vaw::nearMisses(parts).empty()) << x << " x " << y;
+    expectEveryTileAsTheFirst(a, perTile, counted, x, y);
   }
 }
 
