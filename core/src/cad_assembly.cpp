@@ -10,9 +10,9 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <locale>
-#include <functional>
 #include <map>
 #include <memory>
 #include <new>

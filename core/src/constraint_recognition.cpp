@@ -344,10 +344,11 @@ std::vector<FoundConstraint> onePerContact(std::vector<FoundConstraint> found, c
 // A stepped insert is a head in a counterbore when the pair also has a seat across its axis (the head's
 // underside on the counterbore's floor); otherwise it is a stepped fit and no counterbore.
 void seatsInCounterbores(std::vector<FoundConstraint>& found, const RecognitionTolerances& tol) {
+  const double parallel = std::cos(tol.angle);
   for (FoundConstraint& f : found) {
     if (f.type != Constraint::Type::Insert || f.found.seatRadius <= 0.0) continue;
     const bool seated = std::any_of(found.begin(), found.end(), [&](const FoundConstraint& m) {
-      return m.type == Constraint::Type::Mate && m.a == f.a && m.b == f.b && std::abs(m.direction.dot(f.direction)) >= std::cos(tol.angle);
+      return m.type == Constraint::Type::Mate && m.a == f.a && m.b == f.b && std::abs(m.direction.dot(f.direction)) >= parallel;
     });
     if (seated) f.found.seat = Constraint::Found::Seat::Counterbore;
     else f.found.seatRadius = 0.0;

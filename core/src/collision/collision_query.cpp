@@ -89,11 +89,9 @@ struct PairContext {
       const int pa = A->nodePlane[static_cast<std::size_t>(b1)], pb = B->nodePlane[static_cast<std::size_t>(b2)];
       if (pa >= 0 && pb >= 0 && planesCoincide(pa, pb)) return true;
     }
-    if (const int ca = A->nodeCylinder[static_cast<std::size_t>(b1)], cb = B->nodeCylinder[static_cast<std::size_t>(b2)];
-        ca >= 0 && cb >= 0 && mode != FilterMode::KeepCoplanar && looselyCoaxial(ca, cb))
-      return true;
+    const int ca = A->nodeCylinder[static_cast<std::size_t>(b1)], cb = B->nodeCylinder[static_cast<std::size_t>(b2)];
+    if (ca >= 0 && cb >= 0 && mode != FilterMode::KeepCoplanar && looselyCoaxial(ca, cb)) return true;
     if (mode == FilterMode::SkipCoaxial) {
-      const int ca = A->nodeCylinder[static_cast<std::size_t>(b1)], cb = B->nodeCylinder[static_cast<std::size_t>(b2)];
       if (ca >= 0 && cb >= 0 && cylindersCoaxial(ca, cb)) return true;
       if (rimAgainstCylinder(A->nodePlane[static_cast<std::size_t>(b1)], cb, ca, B->nodePlane[static_cast<std::size_t>(b2)])) return true;
     }
@@ -150,11 +148,11 @@ struct PairContext {
     return std::abs(a.normal.dot(R * b.origin + T - a.origin)) <= room && std::abs(nb.dot(a.origin - (R * b.origin + T))) <= room;
   }
 
-  // Planes across which a pair can only touch, never cross (docs/collision.md, "Separating planes"): where
-  // the largest flat faces of both parts lie in one plane (a bracket's foot on a plate's top), in A's frame. Two nodes or triangles
-  // wholly on opposite sides of one of them (within the distance tolerance) can meet only in that plane:
-  // the walls of a bracket's holes above a plate and those of the plate's holes under it. In a sweep only
-  // the planes the motion lies in, which stay separating all along.
+  // Planes across which a pair can only touch, never cross (docs/collision.md, "Separating planes"): large
+  // flat faces where the two parts rest on each other (a bracket's foot on a plate's top), in A's frame.
+  // Two nodes or triangles wholly on opposite sides of one (within the distance tolerance) can meet only in
+  // that plane: the walls of a bracket's holes above a plate and those of the plate's holes under it. In a
+  // sweep only the planes the motion lies in, which stay separating all along.
   struct Separator {
     Eigen::Vector3d normal, origin;      // in A's frame
     Eigen::Vector3d normalB, originB;    // the same plane in B's frame
@@ -223,13 +221,15 @@ struct PairContext {
   }
   bool separated(const Tri& p, const Tri& q) const {
     for (const Separator& s : separators) {
+      // A triangle's extent along the normal as a centre and a half width, as a box's.
       const auto side = [&](const Tri& t) {
         const double d0 = s.normal.dot(t[0] - s.origin), d1 = s.normal.dot(t[1] - s.origin), d2 = s.normal.dot(t[2] - s.origin);
-        return std::pair{std::min({d0, d1, d2}), std::max({d0, d1, d2})};
+        const double lo = std::min({d0, d1, d2}), hi = std::max({d0, d1, d2});
+        return std::pair{0.5 * (lo + hi), 0.5 * (hi - lo)};
       };
-      const auto [pMin, pMax] = side(p);
-      const auto [qMin, qMax] = side(q);
-      if ((pMax <= s.room && qMin >= -s.room) || (pMin >= -s.room && qMax <= s.room)) return true;
+      const auto [dp, rp] = side(p);
+      const auto [dq, rq] = side(q);
+      if (apartAcross(s, dp, rp, dq, rq)) return true;
     }
     return false;
   }
