@@ -139,7 +139,10 @@ nlohmann::json toJson(const vaw::Assembly& a, const std::vector<vaw::collision::
         if (c.found->seat != vaw::Constraint::Found::Seat::None) {
           j["found"]["seat"] = std::string(vaw::name(c.found->seat));
           j["found"]["seat_radius_m"] = c.found->seatRadius;
+          if (c.found->seat == vaw::Constraint::Found::Seat::Countersink) j["found"]["seat_half_angle_rad"] = c.found->seatAngle;
         }
+      } else if (c.found->keyWidth > 0.0) {
+        j["found"]["key_width_m"] = c.found->keyWidth;
       }
     }
     if (f.support.kind == vaw::collision::Support::Kind::Axis && f.support.problem.empty())

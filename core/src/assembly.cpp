@@ -17,6 +17,7 @@ std::string_view name(Constraint::Found::Seat s) {
   switch (s) {
     case Constraint::Found::Seat::None: return "none";
     case Constraint::Found::Seat::Counterbore: return "counterbore";
+    case Constraint::Found::Seat::Countersink: return "countersink";
   }
   return "none";
 }

@@ -62,7 +62,7 @@ class KeptPrecedence {
         for (const CadFace& f : p.cad->faces) {
           const double fields[] = {static_cast<double>(f.surface), f.point.x(), f.point.y(), f.point.z(),
                                    f.direction.x(), f.direction.y(), f.direction.z(), f.radius,
-                                   f.convex ? 1.0 : 0.0, f.axialMin, f.axialMax,
+                                   f.convex ? 1.0 : 0.0, f.axialMin, f.axialMax, f.halfAngle,
                                    static_cast<double>(f.firstTriangle), static_cast<double>(f.triangleCount)};
           h = fnv1a(fields, sizeof fields, h);
         }

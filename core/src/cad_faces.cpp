@@ -32,6 +32,13 @@ bool sameCylinder(const CadFace& a, const CadFace& b, const FaceMergeTolerances&
   return (rel - u * u.dot(rel)).norm() <= tol.distance;
 }
 
+// One cone: apexes, axes (both the way it widens) and half angles alike.
+bool sameCone(const CadFace& a, const CadFace& b, const FaceMergeTolerances& tol) {
+  if (a.convex != b.convex || std::abs(a.halfAngle - b.halfAngle) > tol.angle) return false;
+  if (a.direction.normalized().dot(b.direction.normalized()) < std::cos(tol.angle)) return false;
+  return (b.point - a.point).norm() <= tol.distance;
+}
+
 bool samePlane(const CadFace& a, const CadFace& b, const FaceMergeTolerances& tol) {
   const Eigen::Vector3d n = a.direction.normalized();
   if (n.dot(b.direction.normalized()) < std::cos(tol.angle)) return false;
@@ -45,11 +52,16 @@ std::size_t mergeSplitFaces(CadSolid& solid, const FaceMergeTolerances& tol) {
   UnionFind groups(n);
   // Cylinders by radius, so that only those within the radius tolerance of each other are compared (a
   // plate with a thousand holes of a few sizes).
-  std::vector<std::size_t> cylinders, planes;
+  std::vector<std::size_t> cylinders, planes, cones;
   for (std::size_t i = 0; i < n; ++i) {
     if (solid.faces[i].surface == CadFace::Surface::Cylinder) cylinders.push_back(i);
     if (solid.faces[i].surface == CadFace::Surface::Plane) planes.push_back(i);
+    if (solid.faces[i].surface == CadFace::Surface::Cone) cones.push_back(i);
   }
+  // Cones are few (countersinks, chamfers, drill points): every pair.
+  for (std::size_t x = 0; x < cones.size(); ++x)
+    for (std::size_t y = x + 1; y < cones.size(); ++y)
+      if (sameCone(solid.faces[cones[x]], solid.faces[cones[y]], tol)) groups.join(cones[x], cones[y]);
   std::sort(cylinders.begin(), cylinders.end(),
             [&](std::size_t a, std::size_t b) { return solid.faces[a].radius < solid.faces[b].radius; });
   for (std::size_t x = 0; x < cylinders.size(); ++x)
@@ -92,7 +104,7 @@ std::size_t mergeSplitFaces(CadSolid& solid, const FaceMergeTolerances& tol) {
       const CadFace& g = solid.faces[i];
       f.area += g.area;
       f.fromSpline = f.fromSpline || g.fromSpline;
-      if (f.surface == CadFace::Surface::Cylinder && i != root) {
+      if ((f.surface == CadFace::Surface::Cylinder || f.surface == CadFace::Surface::Cone) && i != root) {
         // g's extent along the first face's axis, from the first face's axis point.
         const double s = g.direction.normalized().dot(u) >= 0.0 ? 1.0 : -1.0;
         const double shift = u.dot(g.point - f.point);
@@ -100,6 +112,7 @@ std::size_t mergeSplitFaces(CadSolid& solid, const FaceMergeTolerances& tol) {
         f.axialMin = std::min({f.axialMin, a, b});
         f.axialMax = std::max({f.axialMax, a, b});
       }
+      if (f.surface == CadFace::Surface::Cone) f.radius = std::max(f.radius, g.radius);
       for (std::size_t t = g.firstTriangle; t < g.firstTriangle + g.triangleCount && t < solid.mesh.triangles.size(); ++t)
         triangles.push_back(solid.mesh.triangles[t]);
     }

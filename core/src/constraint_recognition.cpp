@@ -131,7 +131,9 @@ enum class Refusal {
   NotFacing,
   SameWay,
   PlanesApart,
-  NoArea
+  NoArea,
+  ConeAngles,
+  ConesApart
 };
 
 struct Verdict {
@@ -185,6 +187,42 @@ Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTole
     f.found.thread = designed->thread;
     f.found.interference = -clearance;
   }
+  return {};
+}
+
+// A countersunk head in its countersink: a convex cone on a concave one, widening the same way on one
+// axis, with one half angle and one apex (so the surfaces are one), overlapping along the axis. On success
+// `f` holds the seat as an insert along the countersink's axis, a's face being `x`.
+Verdict testCountersink(const WorldFace& x, const WorldFace& y, const RecognitionTolerances& tol, FoundConstraint& f) {
+  if (x.face->convex == y.face->convex) return {x.face->convex ? Refusal::BothShafts : Refusal::BothHoles};
+  const WorldFace& head = x.face->convex ? x : y;
+  const WorldFace& sink = x.face->convex ? y : x;
+  const double cosine = head.direction.dot(sink.direction);
+  if (cosine < std::cos(tol.angle)) return {Refusal::AxesAngle, std::acos(std::clamp(cosine, -1.0, 1.0)), tol.angle};
+  const double angles = std::abs(head.face->halfAngle - sink.face->halfAngle);
+  if (angles > tol.angle) return {Refusal::ConeAngles, angles, tol.angle};
+  const Eigen::Vector3d u = sink.direction, rel = head.point - sink.point;
+  const double along = u.dot(rel), offAxis = (rel - u * along).norm();
+  if (offAxis > tol.distance) return {Refusal::AxesApart, offAxis, tol.distance};
+  // Apexes apart along the axis: the surfaces stand apart by that times the sine of the half angle.
+  const double gap = std::abs(along) * std::sin(sink.face->halfAngle);
+  if (gap > tol.distance) return {Refusal::ConesApart, gap, tol.distance};
+  const double h0 = along + head.axialMin, h1 = along + head.axialMax;
+  const double overlap = std::min(h1, sink.axialMax) - std::max(h0, sink.axialMin);
+  const double shorter = std::min(h1 - h0, sink.axialMax - sink.axialMin);
+  if (!(overlap > tol.minOverlapRel * shorter && overlap > tol.distance))
+    return {Refusal::NoAxialOverlap, overlap, std::max(tol.minOverlapRel * shorter, tol.distance)};
+  f = FoundConstraint{};
+  f.type = Constraint::Type::Insert;
+  f.point = sink.point;
+  f.direction = u;
+  f.found.partRadius = x.face->radius;
+  f.found.partnerRadius = y.face->radius;
+  f.found.overlap = overlap;
+  f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
+  f.found.seat = Constraint::Found::Seat::Countersink;
+  f.found.seatRadius = sink.face->radius;
+  f.found.seatAngle = sink.face->halfAngle;
   return {};
 }
 
@@ -245,6 +283,8 @@ std::string describe(const Verdict& v) {
     case Refusal::NotFacing: return "the planes are " + degrees(v.value) + " from facing each other";
     case Refusal::SameWay: return "the planes face the same way";
     case Refusal::PlanesApart: return "the planes are " + mm(v.value) + " apart";
+    case Refusal::ConeAngles: return "the cones' half angles are " + degrees(v.value) + " apart";
+    case Refusal::ConesApart: return "the cones stand " + mm(v.value) + " apart";
     case Refusal::NoArea:
       if (v.value > 0.0) return "the faces share only " + number(v.value * 1e6) + " mm² (they meet at an edge)";
       return "the faces share no area";
@@ -353,6 +393,58 @@ void seatsInCounterbores(std::vector<FoundConstraint>& found, const RecognitionT
     if (seated) f.found.seat = Constraint::Found::Seat::Counterbore;
     else f.found.seatRadius = 0.0;
   }
+}
+
+// A countersunk head's seat is the seat of the screw's insert in that part, on that axis (its shank in the
+// hole under the countersink); a seat with no such insert is the pair's insert itself, kept in the order
+// recognizeConstraints gives (by pair).
+void seatsInCountersinks(std::vector<FoundConstraint>& found, const std::vector<FoundConstraint>& seats,
+                         const RecognitionTolerances& tol) {
+  for (const FoundConstraint& s : seats) {
+    const auto onAxis = [&](const FoundConstraint& f) {
+      if (f.type != Constraint::Type::Insert || f.a != s.a || f.b != s.b || f.direction.cross(s.direction).norm() > tol.angle)
+        return false;
+      const Eigen::Vector3d rel = f.point - s.point;
+      return (rel - s.direction * s.direction.dot(rel)).norm() <= tol.distance;
+    };
+    const auto insert = std::find_if(found.begin(), found.end(), onAxis);
+    if (insert == found.end()) {
+      const auto after = std::find_if(found.begin(), found.end(),
+                                      [&](const FoundConstraint& f) { return std::pair(f.a, f.b) > std::pair(s.a, s.b); });
+      found.insert(after, s);
+    } else if (insert->found.seat != Constraint::Found::Seat::Countersink) {
+      insert->found.seat = Constraint::Found::Seat::Countersink;
+      insert->found.seatRadius = s.found.seatRadius;
+      insert->found.seatAngle = s.found.seatAngle;
+      insert->found.fromSpline = insert->found.fromSpline || s.found.fromSpline;
+    }
+  }
+}
+
+// Two mates of one pair whose planes face opposite ways hold one part's two parallel faces between two of
+// the other's: a key in its keyway or in a hub's slot. They are one constraint, the first side kept with
+// the width between the two and both areas.
+void keysInSlots(std::vector<FoundConstraint>& found, const RecognitionTolerances& tol) {
+  const double opposed = -std::cos(tol.angle);
+  std::vector<bool> merged(found.size(), false);
+  for (std::size_t i = 0; i < found.size(); ++i) {
+    FoundConstraint& side = found[i];
+    if (side.type != Constraint::Type::Mate || merged[i]) continue;
+    for (std::size_t j = i + 1; j < found.size() && found[j].a == side.a && found[j].b == side.b; ++j) {
+      const FoundConstraint& other = found[j];
+      if (other.type != Constraint::Type::Mate || merged[j] || side.direction.dot(other.direction) > opposed) continue;
+      side.found.keyWidth = std::abs(side.direction.dot(other.point - side.point));
+      side.found.overlap += other.found.overlap;
+      side.found.fromSpline = side.found.fromSpline || other.found.fromSpline;
+      merged[j] = true;
+      break;
+    }
+  }
+  std::vector<FoundConstraint> kept;
+  kept.reserve(found.size());
+  for (std::size_t i = 0; i < found.size(); ++i)
+    if (!merged[i]) kept.push_back(std::move(found[i]));
+  found = std::move(kept);
 }
 
 }  // namespace
@@ -474,11 +566,13 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
   const std::vector<std::pair<std::size_t, std::size_t>> pairs = candidatePairs(parts, tol.distance + tol.maxClearance);
 
   // Each part's faces in the world once, not once per partner (the base meets every part).
-  std::vector<std::vector<WorldFace>> cylinders(parts.size()), planes(parts.size());
+  std::vector<std::vector<WorldFace>> cylinders(parts.size()), planes(parts.size()), cones(parts.size());
   for (std::size_t i = 0; i < parts.size(); ++i) {
     cylinders[i] = worldFaces(parts[i], CadFace::Surface::Cylinder);
     planes[i] = worldFaces(parts[i], CadFace::Surface::Plane);
+    cones[i] = worldFaces(parts[i], CadFace::Surface::Cone);
   }
+  std::vector<FoundConstraint> seats;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [i, j] = pairs[k];
     if (progress && !progress(static_cast<double>(k) / static_cast<double>(pairs.size()), i, j)) throw LoadCancelled();
@@ -489,9 +583,14 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
     for (const WorldFace& x : planes[i])
       for (const WorldFace& y : planes[j])
         if (testMate(parts[i], x, parts[j], y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
+    for (const WorldFace& x : cones[i])
+      for (const WorldFace& y : cones[j])
+        if (testCountersink(x, y, tol, f).refusal == Refusal::None) seats.push_back(between(f, i, j, x, y));
   }
   std::vector<FoundConstraint> found = onePerContact(std::move(out), tol);
   seatsInCounterbores(found, tol);
+  seatsInCountersinks(found, onePerContact(std::move(seats), tol), tol);
+  keysInSlots(found, tol);
   return found;
 }
 
@@ -509,6 +608,11 @@ std::optional<std::size_t> faceAt(const CadSolid& s, const Eigen::Vector3d& poin
       const double t = u.dot(rel);
       if (t < f.axialMin - tolerance || t > f.axialMax + tolerance) continue;
       onSurface = std::abs((rel - u * t).norm() - f.radius);
+    } else if (f.surface == CadFace::Surface::Cone) {
+      const Eigen::Vector3d u = f.direction.normalized(), rel = point - f.point;
+      const double t = u.dot(rel);
+      if (t < f.axialMin - tolerance || t > f.axialMax + tolerance) continue;
+      onSurface = std::abs((rel - u * t).norm() * std::cos(f.halfAngle) - t * std::sin(f.halfAngle));
     }
     if (!(onSurface <= tolerance)) continue;
     // A plane or a cylinder goes on where its face ends: where the face has triangles the point must be near
@@ -531,10 +635,12 @@ FacePairResult constraintFromFaces(const std::vector<RecognitionPart>& parts, st
       return {std::nullopt, "a face that is not on the part's CAD solid"};
   const WorldFace x = worldFace(parts[a], faceA), y = worldFace(parts[b], faceB);
   const auto both = [&](CadFace::Surface kind) { return x.face->surface == kind && y.face->surface == kind; };
-  if (!both(CadFace::Surface::Cylinder) && !both(CadFace::Surface::Plane))
-    return {std::nullopt, "the two faces are not both cylinders or both planes"};
+  if (!both(CadFace::Surface::Cylinder) && !both(CadFace::Surface::Plane) && !both(CadFace::Surface::Cone))
+    return {std::nullopt, "the two faces are not both cylinders, both cones or both planes"};
   FoundConstraint f;
-  const Verdict v = both(CadFace::Surface::Cylinder) ? testInsert(x, y, tol, f) : testMate(parts[a], x, parts[b], y, tol, f);
+  const Verdict v = both(CadFace::Surface::Cylinder) ? testInsert(x, y, tol, f)
+                    : both(CadFace::Surface::Cone)   ? testCountersink(x, y, tol, f)
+                                                     : testMate(parts[a], x, parts[b], y, tol, f);
   if (v.refusal != Refusal::None) return {std::nullopt, describe(v)};
   return {between(f, a, b, x, y), {}};
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numbers>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -504,7 +505,8 @@ class SceneReader {
   // What recognition measured, kept with a saved CAD scene (lengths in the scene's unit, areas in its square).
   Constraint::Found readFound(const Node& n, Constraint::Type type) {
     n.requireObject();
-    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline", "fit", "interference", "thread", "seat", "seat_radius"});
+    n.allowOnly({"part_radius", "partner_radius", "clearance", "overlap", "from_spline", "fit", "interference", "thread", "seat",
+                 "seat_radius", "seat_angle", "key_width"});
     Constraint::Found f;
     const double L = units_.L;
     if (auto x = n.opt("part_radius")) f.partRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
@@ -526,9 +528,12 @@ class SceneReader {
     if (auto x = n.opt("thread")) f.thread = x->string();
     if (auto x = n.opt("seat")) {
       if (x->string() == "counterbore") f.seat = Constraint::Found::Seat::Counterbore;
-      else if (x->string() != "none") x->fail("\"none\" or \"counterbore\"");
+      else if (x->string() == "countersink") f.seat = Constraint::Found::Seat::Countersink;
+      else if (x->string() != "none") x->fail("\"none\", \"counterbore\" or \"countersink\"");
     }
     if (auto x = n.opt("seat_radius")) f.seatRadius = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
+    if (auto x = n.opt("seat_angle")) f.seatAngle = x->number(0.0, 90.0, "degrees") * std::numbers::pi / 180.0;
+    if (auto x = n.opt("key_width")) f.keyWidth = x->number(0.0, limits::kMaxCoordinate / L, "") * L;
     return f;
   }
 

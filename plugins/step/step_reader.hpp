@@ -53,7 +53,8 @@ struct FaceOut {
   vaw::step::SurfaceKind surface = vaw::step::SurfaceKind::Other;
   gp_Pnt point;
   gp_Dir direction{0, 0, 1};
-  double radius = 0.0;
+  double radius = 0.0;     // cylinder; cone: at its widest
+  double halfAngle = 0.0;  // cone, rad
   bool convex = true;
   double axialMin = 0.0, axialMax = 0.0;
   double area = 0.0;

@@ -7,7 +7,7 @@
 //    "solids": [{"product", "volume", "centroid", "inertia", "area", "deflection", "vertices" (binary,
 //                float64 x y z), "triangles" (binary, int32 a b c), "faces": [{"surface", "area", "first",
 //                "count", "point", "direction", "fromSpline", "radius", "convex", "axialMin",
-//                "axialMax"}], "color"}],
+//                "axialMax", "halfAngle"}], "color"}],
 //    "root": {"name", "location" (3x4 row-major), "color", "solid" (index) | "children": [...]}}
 //   or, for a bad file, {"version": 1, "error": {"field", "expected", "found"}}
 // Lengths in metres, in each solid's own frame.
@@ -15,9 +15,9 @@
 
 namespace vaw::step {
 
-inline constexpr int kResultVersion = 1;
+inline constexpr int kResultVersion = 2;
 
-enum class SurfaceKind : int { Plane = 0, Cylinder = 1, Other = 2 };
+enum class SurfaceKind : int { Plane = 0, Cylinder = 1, Other = 2, Cone = 3 };
 
 // The reader skips assemblies nested deeper than 200 levels; each level is two CBOR levels (the node's
 // map and its children's array). The plugin refuses deeper results before its recursive parse.

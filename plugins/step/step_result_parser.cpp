@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "step_result.hpp"
 #include "vaw/cad_faces.hpp"
@@ -107,6 +108,7 @@ std::shared_ptr<const CadSolid> solidFrom(const json& j) {
     switch (static_cast<SurfaceKind>(jf.at("surface").get<int>())) {
       case SurfaceKind::Plane: f.surface = CadFace::Surface::Plane; break;
       case SurfaceKind::Cylinder: f.surface = CadFace::Surface::Cylinder; break;
+      case SurfaceKind::Cone: f.surface = CadFace::Surface::Cone; break;
       case SurfaceKind::Other: f.surface = CadFace::Surface::Other; break;
       default: malformed("a face's surface kind is unknown");
     }
@@ -126,6 +128,9 @@ std::shared_ptr<const CadSolid> solidFrom(const json& j) {
     f.convex = jf.value("convex", true);
     f.axialMin = finite(jf.value("axialMin", json(0.0)), "a face's extent");
     f.axialMax = finite(jf.value("axialMax", json(0.0)), "a face's extent");
+    f.halfAngle = finite(jf.value("halfAngle", json(0.0)), "a cone's half angle");
+    if (f.surface == CadFace::Surface::Cone && !(f.halfAngle > 0.0 && f.halfAngle < 0.5 * std::numbers::pi))
+      malformed("a cone's half angle is not between 0 and 90 degrees");
     s->faces.push_back(f);
   }
   // The reader writes Open CASCADE's faces as they are; a cylinder the exporter split is one surface here.

@@ -317,11 +317,12 @@ void Reader::measure(Product& p) {
       jf["direction"] = point(f.direction.XYZ(), 1.0);
       if (f.fromSpline) jf["fromSpline"] = true;
     }
-    if (f.surface == vaw::step::SurfaceKind::Cylinder) {
+    if (f.surface == vaw::step::SurfaceKind::Cylinder || f.surface == vaw::step::SurfaceKind::Cone) {
       jf["radius"] = f.radius * kMetre;
       jf["convex"] = f.convex;
       jf["axialMin"] = f.axialMin * kMetre;
       jf["axialMax"] = f.axialMax * kMetre;
+      if (f.surface == vaw::step::SurfaceKind::Cone) jf["halfAngle"] = f.halfAngle;
     }
     faces.push_back(std::move(jf));
   }

@@ -57,6 +57,25 @@ std::shared_ptr<CadSolid> cylinder(double r, double z0, double z1, bool convex, 
   return s;
 }
 
+// A cone's face on the z axis, its apex at the origin of its box's centre line, widening upwards with the
+// given half angle between z0 and z1 above the apex.
+std::shared_ptr<CadSolid> cone(double halfAngle, double z0, double z1, bool convex, const std::string& name) {
+  const double r = z1 * std::tan(halfAngle);
+  auto s = box(2 * r, 2 * r, z1 - z0, name);
+  s->faces.clear();
+  CadFace f;
+  f.surface = CadFace::Surface::Cone;
+  f.point = Eigen::Vector3d(r, r, -z0);
+  f.direction = Eigen::Vector3d::UnitZ();
+  f.halfAngle = halfAngle;
+  f.radius = r;
+  f.convex = convex;
+  f.axialMin = z0;
+  f.axialMax = z1;
+  s->faces.push_back(f);
+  return s;
+}
+
 Eigen::Isometry3d at(double x, double y, double z) {
   Eigen::Isometry3d p = Eigen::Isometry3d::Identity();
   p.translation() = Eigen::Vector3d(x, y, z);
@@ -109,6 +128,36 @@ TEST(ConstraintRecognition, OffAxisLooseDisjointOrBothBoresAreNoInsert) {
   EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0)}, {cylinder(0.006, 0, 0.02, true, "s"), at(0.0005, 0.0005, 0.010)}}).empty());
   // Two bores on one axis (a hole in a plate under a hole in a bracket).
   EXPECT_TRUE(vaw::recognizeConstraints({{bore, at(0, 0, 0)}, {cylinder(0.006, 0, 0.02, false, "h"), at(0.0005, 0.0005, 0)}}).empty());
+}
+
+TEST(ConstraintRecognition, AHeadsConeInACountersinkIsTheSeatOfAnInsertAlongItsAxis) {
+  const double half = std::numbers::pi / 4;  // a 90 degree countersunk head
+  // The countersink from 2 to 5 mm above its apex (radius 2..5 mm), the head's cone from 2.5 to 5 mm: one
+  // surface where they overlap. Both boxes are centred on their axes.
+  const auto sink = cone(half, 0.002, 0.005, false, "cover"), head = cone(half, 0.0025, 0.005, true, "screw");
+  const auto found = vaw::recognizeConstraints({{sink, at(0, 0, 0.002)}, {head, at(0.0, 0.0, 0.0025)}});
+  ASSERT_EQ(found.size(), 1u);
+  EXPECT_EQ(found[0].type, vaw::Constraint::Type::Insert);
+  EXPECT_EQ(found[0].found.seat, vaw::Constraint::Found::Seat::Countersink);
+  EXPECT_NEAR(found[0].found.seatRadius, 0.005, 1e-12);
+  EXPECT_NEAR(found[0].found.seatAngle, half, 1e-12);
+  EXPECT_NEAR(found[0].found.overlap, 0.0025, 1e-12);
+  EXPECT_TRUE(found[0].direction.isApprox(Eigen::Vector3d::UnitZ()));
+
+  // A head of 82 degrees (an inch screw's) in a 90 degree countersink touches along a circle only; a head
+  // standing 0.1 mm proud of its countersink is no seat either; each says why when chosen by hand.
+  const auto inch = cone(41.0 * std::numbers::pi / 180.0, 0.0025, 0.005, true, "inch screw");
+  const double centre = 0.005 - inch->faces[0].radius;  // its box is narrower: on the countersink's axis
+  const std::vector<vaw::RecognitionPart> inchIn = {{sink, at(0, 0, 0.002)}, {inch, at(centre, centre, 0.0025)}};
+  EXPECT_TRUE(vaw::recognizeConstraints(inchIn).empty());
+  const std::vector<vaw::RecognitionPart> proud = {{sink, at(0, 0, 0.002)},
+                                                   {head, at(0.0, 0.0, 0.0025 + 0.0002 / std::sin(half))}};
+  EXPECT_TRUE(vaw::recognizeConstraints(proud).empty());
+  const vaw::FacePairResult why = vaw::constraintFromFaces(proud, 0, 0, 1, 0);
+  EXPECT_FALSE(why.found);
+  EXPECT_EQ(why.why, "the cones stand 0.2 mm apart");
+  const vaw::FacePairResult angles = vaw::constraintFromFaces(inchIn, 0, 0, 1, 0);
+  EXPECT_EQ(angles.why, "the cones' half angles are 4.0 deg apart");
 }
 
 TEST(ConstraintRecognition, FaceAtPicksTheFaceUnderAPoint) {
@@ -184,7 +233,7 @@ TEST(ConstraintRecognition, TwoChosenFacesThatAreNoConstraintSayWhy) {
   EXPECT_EQ(why(plate, at(0, 0, 0), cube, at(0.05, 0.01, 0.010), 1, 0), "the faces share no area");
   EXPECT_EQ(why(plate, at(0, 0, 0), cube, at(0.01, 0.01, 0.010), 1, 2), "the planes are 90.0 deg from facing each other");
   EXPECT_EQ(why(plate, at(0, 0, 0), cylinder(0.006, 0, 0.02, true, "s"), at(0.01, 0.01, 0.010), 1, 0),
-            "the two faces are not both cylinders or both planes");
+            "the two faces are not both cylinders, both cones or both planes");
   EXPECT_EQ(why(plate, at(0, 0, 0), plate, at(0, 0, 0.010), 1, 1), "the planes face the same way");
   // Face to face: a mate over the common area, a's normal its direction.
   const auto r = vaw::constraintFromFaces({{plate, at(0, 0, 0)}, {cube, at(0.030, 0.010, 0.010)}}, 1, 0, 0, 1);

@@ -476,7 +476,8 @@ void TestConstraints::addFromFaces() {
   clickFace(*pin, *shaft);
   QTRY_VERIFY_WITH_TIMEOUT(!dock()->pickingFaces(), kSettle);
   QCOMPARE(hint(),
-           QStringLiteral("Not a constraint between base-plate and pin: the two faces are not both cylinders or both planes."));
+           QStringLiteral(
+               "Not a constraint between base-plate and pin: the two faces are not both cylinders, both cones or both planes."));
 
   // The sleeve's bore, then the pin's side: the insert is back, accepted, selected, its axis drawn.
   QTest::mouseClick(add, Qt::LeftButton);

@@ -51,6 +51,7 @@ class TestDesignedFits : public QObject {
   void anOversizedDowelIsANearMissInTheConstraintsPanel();
   void aBearingIsOneUnitUntilTakenApart();
   void theRotaryTableOpensAndShowsWhereItsThreadIs();
+  void aKeyIsAPrismaticFitInTheConstraintsPanel();
 
  private:
   [[nodiscard]] vaw::ui::SimulationController& sim() const { return window_->simulation(); }
@@ -135,6 +136,8 @@ void TestDesignedFits::aCapScrewGoesHomeThroughItsTappedHole() {
     QVERIFY2(fits.contains(QStringLiteral("cap-screw-1 on base (base): threaded M6")), qPrintable(fits.join(QLatin1Char('\n'))));
     QVERIFY2(fits.contains(QStringLiteral("cap-screw-1 on bracket: clearance, counterbore")), qPrintable(fits.join(QLatin1Char('\n'))));
     QVERIFY2(fits.contains(QStringLiteral("dowel-1 on base (base): press")), qPrintable(fits.join(QLatin1Char('\n'))));
+    QVERIFY2(fits.contains(QStringLiteral("csk-screw-1 on cover: clearance, countersink")),
+             qPrintable(fits.join(QLatin1Char('\n'))));
     const int row = static_cast<int>(fits.indexOf(QStringLiteral("cap-screw-1 on bracket: clearance, counterbore")));
     constraints->view()->scrollTo(model->index(row, 0), QAbstractItemView::PositionAtTop);
     QTest::qWait(200);
@@ -269,6 +272,39 @@ void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {
   QTRY_VERIFY_WITH_TIMEOUT(window_->viewport()->constraintGeometry().has_value(), 3000);
   QTest::qWait(200);
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-rotary-table.png"));
+}
+
+// The feather key between the keyway's walls and between the hub slot's: one prismatic fit each, its width
+// in the Fit column; the key goes in before the hub in the Sequence panel's order.
+void TestDesignedFits::aKeyIsAPrismaticFitInTheConstraintsPanel() {
+  const QString file =
+      QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-keyed-%1.stp").arg(QCoreApplication::applicationPid()));
+  vaw::steptest::writeKeyedHub(file.toStdString());
+  open(file);
+  QFile::remove(file);
+  vaw::ui::ConstraintsDock* constraints = window_->constraintsDock();
+  constraints->show();
+  constraints->raise();
+  const auto* model = constraints->model();
+  QStringList fits;
+  int keyRow = -1;
+  for (int row = 0; row < model->rowCount(); ++row) {
+    const QString fit = model->index(row, vaw::ui::ConstraintsModel::FitColumn).data().toString();
+    fits << model->index(row, vaw::ui::ConstraintsModel::PartColumn).data().toString() + QStringLiteral(" on ") +
+                model->index(row, vaw::ui::ConstraintsModel::PartnerColumn).data().toString() + QStringLiteral(": ") + fit;
+    if (fit.startsWith(QStringLiteral("prismatic")) && keyRow < 0) keyRow = row;
+  }
+  QCOMPARE(fits.filter(QStringLiteral(": prismatic, 6.0 mm wide")).size(), 2);
+  QVERIFY2(fits.contains(QStringLiteral("key on shaft: prismatic, 6.0 mm wide")), qPrintable(fits.join(QLatin1Char('\n'))));
+  QVERIFY2(fits.contains(QStringLiteral("hub on key: prismatic, 6.0 mm wide")), qPrintable(fits.join(QLatin1Char('\n'))));
+  // A click on the row selects the key fit and shows its plane in the viewport.
+  constraints->view()->scrollTo(model->index(keyRow, 0), QAbstractItemView::PositionAtTop);
+  const QRect cell = constraints->view()->visualRect(model->index(keyRow, vaw::ui::ConstraintsModel::FitColumn));
+  QTest::mouseClick(constraints->view()->viewport(), Qt::LeftButton, {}, cell.center());
+  QTRY_VERIFY_WITH_TIMEOUT(window_->viewport()->constraintGeometry().has_value(), 3000);
+  QCOMPARE(window_->viewport()->constraintGeometry()->partner, part("shaft"));
+  QTest::qWait(200);
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-key-fit.png"));
 }
 
 QTEST_MAIN(TestDesignedFits)

@@ -707,6 +707,40 @@ double fastenedBlockOverlap(const std::string& a, const std::string& b, const De
   return props.Mass();
 }
 
+void writeKeyedHub(const std::filesystem::path& file, const DesignerStyle& style) {
+  Writer w;
+  w.bspline = style.bsplineFaces;
+  const TDF_Label root = w.assembly("KEYED-HUB");
+  const gp_Dir radial(1, 0, 0);
+  // A stadium along z at the shaft's +x side: width 6 (y -3..3), its round ends' centres at z0 and z1,
+  // from x `inner` to `outer`.
+  const auto stadium = [&](double inner, double outer, double z0, double z1) {
+    return unify(fuse(fuse(box(inner, -3, z0, outer, 3, z1), cylinderAlong(gp_Pnt(inner, 0, z0), radial, 3, outer - inner)),
+                      cylinderAlong(gp_Pnt(inner, 0, z1), radial, 3, outer - inner)));
+  };
+  // SHAFT: r 10, z 0..60, the top edge chamfered 1; the keyway a closed pocket 3.5 deep (floor at x 6.5)
+  // for z 35..55.
+  TopoDS_Shape shaft = chamfered(cylinder(0, 0, 0, 10, 60), 1.0,
+                                 [](const gp_Pnt& a, const gp_Pnt& b) { return near(a.Z(), 60) && near(b.Z(), 60); });
+  shaft = unify(cut(shaft, stadium(6.5, 11, 38, 52)));
+  // KEY, DIN 6885 A 6 x 6 x 20 (round ends): x 0..6 from the keyway's floor.
+  const TopoDS_Shape key = stadium(0, 6, 3, 17);
+  // HUB: r 10.01 .. 25, 20 long, its slot 6 wide through its length with its floor at x 12.8 (0.3 above
+  // the key); the outer edges chamfered 1.
+  TopoDS_Shape hub = tube(10.01, 25, 20);
+  hub = chamfered(hub, 1.0, [](const gp_Pnt& a, const gp_Pnt& b) {
+    return near(std::hypot(a.X(), a.Y()), 25) && near(std::hypot(b.X(), b.Y()), 25);
+  });
+  hub = unify(cut(hub, box(9, -3, -1, 12.8, 3, 21)));
+  // BASE: 120 x 120 x 15, the shaft's seat a blind bore r 10, 10 deep, at its middle.
+  const TopoDS_Shape base = unify(cut(box(-60, -60, 0, 60, 60, 15), cylinder(0, 0, 5, 10, 11)));
+  w.instance(root, w.product("BASE", base), "base", at(60, 60, 0));
+  w.instance(root, w.product("SHAFT", shaft), "shaft", at(60, 60, 5));
+  w.instance(root, w.product("DIN 6885 A 6x6x20", key), "key", at(66.5, 60, 40));
+  w.instance(root, w.product("HUB", hub), "hub", at(60, 60, 40));
+  w.write(file, "AP214", style.inches);
+}
+
 void writeBearingInHousing(const std::filesystem::path& file) {
   Writer w;
   const TDF_Label root = w.assembly("BEARING-IN-HOUSING");

@@ -92,6 +92,12 @@ void writeFastenedBlock(const std::filesystem::path& file, const DesignerStyle& 
 // The exact volume (mm^3) two of its instances share where the file places them, from Open CASCADE's
 // boolean common of their solids: the reference the interference check is measured against.
 double fastenedBlockOverlap(const std::string& a, const std::string& b, const DesignerStyle& style = {});
+// A hub keyed on a shaft as designers model it (mm, Z up): the "SHAFT" (r 10, 60 long) standing in a blind
+// bore (r 10, 10 deep) of the "BASE" block (120 x 120 x 15), with a keyway 3.5 deep, a closed pocket with
+// round ends 35..55 along the shaft; a "DIN 6885 A 6x6x20" feather key (6 wide, 6 high, round ends) in it;
+// the "HUB" (r 10.01 .. 25, 20 long) over both, its slot 6 wide through its length, 0.3 above the key.
+// Chamfered edges. Instances: base, shaft, key, hub.
+void writeKeyedHub(const std::filesystem::path& file, const DesignerStyle& style = {});
 // A ball bearing as CAD libraries model it, a sub-assembly "BEARING-608" of an inner ring (r 4..6.5), an
 // outer ring (r 9..11, both 7 wide with a groove for the balls) and 8 balls (r 1.75 at r 7.75), seated in a
 // "HOUSING" block's bore (r 11, 7 deep), with a "SHAFT" (r 4, 30 long) through its inner ring. The

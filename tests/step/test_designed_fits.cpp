@@ -132,7 +132,21 @@ TEST_P(FastenedBlock, EveryFitRecognisedWithItsKind) {
     ASSERT_NE(thread, nullptr) << screw;
     EXPECT_EQ(thread->found->fit, Fit::Threaded);
     EXPECT_EQ(thread->found->thread, "M5");
+    // The head's 90 degree cone in the cover's countersink (r 2.75 at the hole to r 5 at the cover's top):
+    // the seat of the shank's insert in the cover, whose fit stays the shank's (r 2.5 in r 2.75).
+    const Constraint* countersink = insertBetween(a, screw, "cover");
+    ASSERT_NE(countersink, nullptr) << screw;
+    EXPECT_EQ(countersink->found->seat, Constraint::Found::Seat::Countersink) << screw;
+    EXPECT_NEAR(countersink->found->seatRadius, 5.0e-3, 1e-6);
+    EXPECT_NEAR(countersink->found->seatAngle, 0.25 * M_PI, 1e-4);
+    EXPECT_EQ(countersink->found->fit, Fit::Clearance);
+    EXPECT_NEAR(countersink->found->clearance, 0.25e-3, 1e-7);
+    EXPECT_EQ(thread->found->seat, Constraint::Found::Seat::None) << "the drill point under the thread is no seat";
   }
+  int countersinks = 0;
+  for (const Constraint& c : a.constraints)
+    countersinks += c.found && c.found->seat == Constraint::Found::Seat::Countersink ? 1 : 0;
+  EXPECT_EQ(countersinks, 2) << "the chamfers and the drill points are no countersinks";
   for (const char* dowel : {"dowel-1", "dowel-2"}) {
     const Constraint* pressed = insertBetween(a, dowel, "base");
     ASSERT_NE(pressed, nullptr) << dowel;
@@ -194,6 +208,85 @@ TEST_P(FastenedBlock, OrderAsAFitterPutsItTogether) {
 
 INSTANTIATE_TEST_SUITE_P(Styles, FastenedBlock, ::testing::ValuesIn(kVariants), label);
 
+class KeyedHub : public ::testing::TestWithParam<Variant> {
+ protected:
+  const Assembly& assembly() {
+    static std::map<std::string, Assembly> loaded;
+    auto it = loaded.find(GetParam().label);
+    if (it == loaded.end()) {
+      const fs::path file = vaw::test::tempDir() / (std::string("keyed-hub-") + GetParam().label + ".stp");
+      vaw::steptest::writeKeyedHub(file, GetParam().style);
+      it = loaded.emplace(GetParam().label, load(file)).first;
+    }
+    return it->second;
+  }
+};
+
+// The key fits (two parallel faces between two of the partner's) between two parts, either way round.
+std::vector<const Constraint*> keyFits(const Assembly& a, const std::string& x, const std::string& y) {
+  std::vector<const Constraint*> out;
+  const PartId p = id(a, x), q = id(a, y);
+  for (const Constraint& c : a.constraints) {
+    const PartId partner = c.partner.value_or(*a.base);
+    if (c.found && c.found->keyWidth > 0.0 && ((c.part == p && partner == q) || (c.part == q && partner == p))) out.push_back(&c);
+  }
+  return out;
+}
+
+TEST_P(KeyedHub, TheKeyIsOneFitInItsKeywayAndOneInTheHubsSlot) {
+  const Assembly& a = assembly();
+  ASSERT_EQ(a.parts.size(), 4u);
+  EXPECT_EQ(a.parts[*a.base].name, "base");
+  int keys = 0;
+  for (const Constraint& c : a.constraints) keys += c.found && c.found->keyWidth > 0.0 ? 1 : 0;
+  EXPECT_EQ(keys, 2) << "the chamfers, the key's round ends and its floor are no key fits";
+  for (const char* holder : {"shaft", "hub"}) {
+    const std::vector<const Constraint*> fits = keyFits(a, "key", holder);
+    ASSERT_EQ(fits.size(), 1u) << holder;
+    EXPECT_EQ(fits[0]->type, Constraint::Type::Mate);
+    EXPECT_NEAR(fits[0]->found->keyWidth, 6e-3, 1e-6) << holder;
+    // Its sides are perpendicular to the key's width (world y: the key stands on the shaft's +x side).
+    const vaw::Part& partner = a.parts[fits[0]->partner.value_or(*a.base)];
+    const Eigen::Vector3d n = (partner.finalPose->linear() * fits[0]->basePlane.normal).normalized();
+    EXPECT_NEAR(std::abs(n.y()), 1.0, 1e-6) << holder;
+  }
+  // The hub's bore on the shaft, 10 um of play; the key's floor on the keyway's and its round ends in the
+  // keyway's are the key's other constraints.
+  const Constraint* bore = insertBetween(a, "hub", "shaft");
+  ASSERT_NE(bore, nullptr);
+  EXPECT_NEAR(bore->found->clearance, 0.01e-3, 1e-7);
+}
+
+TEST_P(KeyedHub, TheKeyGoesInBeforeTheHub) {
+  const Assembly& a = assembly();
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(a);
+  ASSERT_TRUE(plan.complete());
+  const auto at = [&](const char* name) {
+    return std::find(plan.order.begin(), plan.order.end(), id(a, name)) - plan.order.begin();
+  };
+  EXPECT_LT(at("shaft"), at("key"));
+  EXPECT_LT(at("key"), at("hub"));
+}
+
+INSTANTIATE_TEST_SUITE_P(Styles, KeyedHub, ::testing::ValuesIn(kVariants), label);
+
+TEST(KeyedHubScene, KeyFitsAreSavedWithTheScene) {
+  const fs::path file = vaw::test::tempDir() / "keyed-hub-saved.stp";
+  vaw::steptest::writeKeyedHub(file);
+  const Assembly a = load(file);
+  const fs::path scene = file.parent_path() / "keyed-hub-saved.vaw.json";
+  vaw::sim::saveScene(a, vaw::sim::World(a, vaw::sim::settingsFor(a)), scene);
+  const Assembly b = load(scene);
+  ASSERT_EQ(b.constraints.size(), a.constraints.size());
+  int keys = 0;
+  for (std::size_t i = 0; i < a.constraints.size(); ++i) {
+    ASSERT_TRUE(b.constraints[i].found.has_value());
+    EXPECT_NEAR(b.constraints[i].found->keyWidth, a.constraints[i].found->keyWidth, 1e-12) << a.constraints[i].name;
+    keys += b.constraints[i].found->keyWidth > 0.0 ? 1 : 0;
+  }
+  EXPECT_EQ(keys, 2);
+}
+
 TEST(FastenedBlockScene, FitsAndSeatsAreSavedWithTheScene) {
   const fs::path file = vaw::test::tempDir() / "fastened-saved.stp";
   vaw::steptest::writeFastenedBlock(file);
@@ -207,6 +300,7 @@ TEST(FastenedBlockScene, FitsAndSeatsAreSavedWithTheScene) {
     EXPECT_EQ(b.constraints[i].found->fit, a.constraints[i].found->fit) << a.constraints[i].name;
     EXPECT_EQ(b.constraints[i].found->seat, a.constraints[i].found->seat) << a.constraints[i].name;
     EXPECT_NEAR(b.constraints[i].found->seatRadius, a.constraints[i].found->seatRadius, 1e-12);
+    EXPECT_NEAR(b.constraints[i].found->seatAngle, a.constraints[i].found->seatAngle, 1e-12);
   }
 }
 

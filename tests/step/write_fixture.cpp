@@ -13,7 +13,10 @@
 
 int main(int argc, char** argv) {
   if (argc != 3) {
-    std::fprintf(stderr, "usage: vaw_write_step_fixture captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe|fastened-block[-inch|-clash]|bearing-in-housing|unsewn-and-hollow|tiled-XxY|rig-XxY OUTPUT.stp\n");
+    std::fprintf(stderr,
+                 "usage: vaw_write_step_fixture "
+                 "captive-ring|bolted-rod|bolted-rod-split4|bolted-rod-proe|fastened-block[-inch|-clash]|bearing-in-housing|"
+                 "keyed-hub[-inch]|unsewn-and-hollow|tiled-XxY|rig-XxY OUTPUT.stp\n");
     return 2;
   }
   const std::string kind = argv[1];
@@ -26,6 +29,8 @@ int main(int argc, char** argv) {
     else if (kind == "fastened-block-inch") vaw::steptest::writeFastenedBlock(argv[2], {true, false, false});
     else if (kind == "fastened-block-clash") vaw::steptest::writeFastenedBlock(argv[2], {false, false, true});
     else if (kind == "bearing-in-housing") vaw::steptest::writeBearingInHousing(argv[2]);
+    else if (kind == "keyed-hub") vaw::steptest::writeKeyedHub(argv[2]);
+    else if (kind == "keyed-hub-inch") vaw::steptest::writeKeyedHub(argv[2], {true, false, false});
     else if (kind == "unsewn-and-hollow") vaw::steptest::writeUnsewnAndHollow(argv[2]);
     else if (kind == "bolted-rod-proe") vaw::steptest::writeBoltedRod(argv[2], ExportStyle{2, false, false, true, true, "AP203"});
     else if (int x = 0, y = 0; std::sscanf(kind.c_str(), "tiled-%dx%d", &x, &y) == 2) vaw::steptest::writeTiledProduct(argv[2], x, y);

@@ -1,12 +1,12 @@
 #include "vaw/ui/constraints_dock.hpp"
 
+#include <QActionGroup>
 #include <QFont>
 #include <QHBoxLayout>
 #include <QHeaderView>
 #include <QItemSelectionModel>
 #include <QLabel>
 #include <QMainWindow>
-#include <QActionGroup>
 #include <QMenu>
 #include <QPushButton>
 #include <QShortcut>
@@ -19,6 +19,7 @@
 #include <QtConcurrent/QtConcurrentRun>
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/ui/assembly_controller.hpp"
@@ -61,8 +62,11 @@ QString direction(const Eigen::Vector3d& d) {
   return QStringLiteral("(%1, %2, %3)").arg(c(d.x()), c(d.y()), c(d.z()));
 }
 
-// An insert's fit as a fitter names it ("threaded M6", "clearance, counterbore"); a mate has none.
+// An insert's fit as a fitter names it ("threaded M6", "clearance, counterbore"); a mate has none unless it
+// holds a part between two faces (a key).
 QString fitText(const vaw::Constraint& c) {
+  if (c.type == vaw::Constraint::Type::Mate && c.found && c.found->keyWidth > 0.0)
+    return QObject::tr("prismatic, %1 mm wide").arg(fixed(c.found->keyWidth * 1000.0, 1));
   if (c.type != vaw::Constraint::Type::Insert || !c.found) return QStringLiteral("—");
   QString text = str(vaw::name(c.found->fit));
   if (!c.found->thread.empty()) text += QLatin1Char(' ') + str(c.found->thread);
@@ -117,6 +121,10 @@ QString faceText(const vaw::CadFace& f) {
     case vaw::CadFace::Surface::Cylinder:
       return f.convex ? QObject::tr("a shaft of radius %1 mm").arg(fixed(f.radius * 1000.0, 2))
                       : QObject::tr("a hole of radius %1 mm").arg(fixed(f.radius * 1000.0, 2));
+    case vaw::CadFace::Surface::Cone:
+      return f.convex ? QObject::tr("a cone of %1 degrees (a countersunk head)")
+                            .arg(fixed(2.0 * f.halfAngle * 180.0 / std::numbers::pi, 0))
+                      : QObject::tr("a countersink of %1 degrees").arg(fixed(2.0 * f.halfAngle * 180.0 / std::numbers::pi, 0));
     case vaw::CadFace::Surface::Other: break;
   }
   return QObject::tr("a curved face");
@@ -186,8 +194,10 @@ QVariant ConstraintsModel::headerData(int section, Qt::Orientation orientation, 
       case PartColumn: return tr("The part the constraint guides home");
       case PartnerColumn: return tr("What it goes onto: another part, or the base");
       case FitColumn:
-        return tr("How an insert's shaft sits in its bore: with play (clearance), a screw at its nominal size in a hole "
-                  "modelled at its tap drill (threaded), a press fit; and a head in a counterbore");
+        return tr(
+            "How an insert's shaft sits in its bore: with play (clearance), a screw at its nominal size in a hole "
+            "modelled at its tap drill (threaded), a press fit; a head in a counterbore or a countersink; and a key in its "
+            "slot (prismatic)");
       case GeometryColumn:
         return tr(
             "The partner's axis (insert) or face plane (mate, align), in world coordinates with the partner at "
@@ -233,10 +243,18 @@ QVariant ConstraintsModel::data(const QModelIndex& index, int role) const {
       case PartnerColumn:
       case KindColumn: return str(c.name);
       case FitColumn:
+        if (c.found && c.found->keyWidth > 0.0)
+          return tr("A prismatic fit: two parallel faces %1 mm apart between two faces of the other part, free only along "
+                    "them (a key in its keyway or in a hub's slot, a tongue in its groove)")
+              .arg(fixed(c.found->keyWidth * 1000.0, 3));
         if (!insert || !c.found) return {};
         if (c.found->seat == vaw::Constraint::Found::Seat::Counterbore)
           return tr("The head sits in a counterbore of radius %1 mm, on its floor; the shank's fit is the tighter of the two")
               .arg(fixed(c.found->seatRadius * 1000.0, 3));
+        if (c.found->seat == vaw::Constraint::Found::Seat::Countersink)
+          return tr("The head's cone lies in a countersink of %1 degrees and radius %2 mm; the shank's fit is %3")
+              .arg(fixed(2.0 * c.found->seatAngle * 180.0 / std::numbers::pi, 0), fixed(c.found->seatRadius * 1000.0, 3),
+                   str(vaw::name(c.found->fit)));
         if (c.found->fit == vaw::Constraint::Found::Fit::Threaded)
           return tr("Modelled at the tap drill: the shaft is %1 mm larger in radius than the hole, a thread's depth").arg(fixed(c.found->interference * 1000.0, 3));
         if (c.found->fit == vaw::Constraint::Found::Fit::Press)
@@ -627,7 +645,7 @@ void ConstraintsDock::facePicked(vaw::PartId part, const Eigen::Vector3d& at) {
   const vaw::CadFace& f = p.cad->faces[*face];
   if (f.surface == vaw::CadFace::Surface::Other) {
     hint_->setText(
-        tr("That face of %1 is neither flat nor a cylinder: constraints are made from those. Click another").arg(name));
+        tr("That face of %1 is neither flat, a cylinder nor a cone: constraints are made from those. Click another").arg(name));
     return;
   }
   if (!firstFace_) {

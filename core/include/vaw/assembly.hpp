@@ -99,10 +99,15 @@ struct Constraint {
     double interference = 0.0;  // m, radial: the shaft's radius less the bore's (Threaded, Press)
     std::string thread;         // Threaded: "M6", "1/4-20 UNC"
     // Where a head sits as it goes home: in a counterbore, a larger bore on the same axis with its floor
-    // under the head (docs/step.md, "Fits as designers model them").
-    enum class Seat { None, Counterbore };
+    // under the head; in a countersink, its cone on the hole's cone (docs/step.md, "Fits as designers model
+    // them").
+    enum class Seat { None, Counterbore, Countersink };
     Seat seat = Seat::None;
-    double seatRadius = 0.0;  // m: the counterbore's radius
+    double seatRadius = 0.0;  // m: the counterbore's radius, the countersink's largest
+    double seatAngle = 0.0;   // rad: a countersink's half angle (45 degrees for ISO 10642's 90 degree head)
+    // A key fit (Mate): one part's two parallel faces between two faces of the other, this far apart (m; 0:
+    // none): a key in its keyway or in a hub's slot, free only along those faces. The mate is one side.
+    double keyWidth = 0.0;
   };
   std::optional<Found> found;
   // The direction the part comes home from, in the partner's frame: it travels along -homeDirection

@@ -1,7 +1,8 @@
 #pragma once
 // Assembly constraints found in the geometry of an assembled CAD model (docs/step.md, "Constraints
 // recognised"): an insert where a part's cylindrical face is coaxial with another's (a shaft in a bore,
-// equal radii or a clearance), a mate where planar faces meet face to face over a real area. Works on the
+// equal radii or a clearance), a mate where planar faces meet face to face over a real area, and the seat of
+// a countersunk head where its cone lies on the countersink's (on the screw's insert). Works on the
 // exact surfaces a CAD importer reports (vaw/importer.hpp, CadFace), at the parts' assembled poses.
 #include <Eigen/Geometry>
 #include <memory>
@@ -49,8 +50,8 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
                                                   const RecognitionTolerances& tol = {}, const PairProgress& progress = {});
 
 // The face of `s` whose exact surface passes nearest `point` (the solid's frame, m), within `tolerance` (m):
-// a plane by the point's distance to it, a cylinder by its distance to the cylinder within the face's axial
-// extent (with `tolerance` of slack at the ends). Where a face has triangles the point must also be within
+// a plane by the point's distance to it, a cylinder or a cone by its distance to that surface within the
+// face's axial extent (with `tolerance` of slack at the ends). Where a face has triangles the point must also be within
 // `tolerance` of them, since the surface goes on past the face's edges; a face of another kind is matched
 // by its triangles alone. None when no face is that near.
 std::optional<std::size_t> faceAt(const CadSolid& s, const Eigen::Vector3d& point, double tolerance);
@@ -63,7 +64,8 @@ struct FacePairResult {
 };
 // Face `faceA` of part `a` and face `faceB` of part `b` (indices into `parts` and their solids' faces) put
 // through the tests recognizeConstraints applies, at the poses `parts` holds: two cylinders as an insert,
-// two planes as a mate. The found constraint's `a` is `a`.
+// two cones as a countersunk head's seat (an insert along the countersink's axis), two planes as a mate.
+// The found constraint's `a` is `a`.
 FacePairResult constraintFromFaces(const std::vector<RecognitionPart>& parts, std::size_t a, std::size_t faceA, std::size_t b,
                                    std::size_t faceB, const RecognitionTolerances& tol = {});
 

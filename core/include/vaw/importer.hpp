@@ -49,14 +49,17 @@ struct ImportOptions {
 // The exact geometry a CAD importer knows about one face of a solid, in the solid's own frame, metres.
 // Constraint recognition (vaw/constraint_recognition.hpp) works on these.
 struct CadFace {
-  enum class Surface { Plane, Cylinder, Other };
+  enum class Surface { Plane, Cylinder, Other, Cone };
   Surface surface = Surface::Other;
-  Eigen::Vector3d point = Eigen::Vector3d::Zero();      // plane: a point on it; cylinder: a point on its axis
-  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ(); // plane: unit normal pointing out of the material;
-                                                        // cylinder: unit axis direction
-  double radius = 0.0;                                  // cylinder, m
-  bool convex = true;             // cylinder: material inside (a shaft, a bolt's shank); false: a hole or bore
-  double axialMin = 0.0, axialMax = 0.0;  // cylinder: the face's extent along the axis, from `point`
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();       // plane: a point on it; cylinder: a point on its axis;
+                                                         // cone: its apex
+  Eigen::Vector3d direction = Eigen::Vector3d::UnitZ();  // plane: unit normal pointing out of the material;
+                                                         // cylinder: unit axis direction; cone: unit axis
+                                                         // direction from the apex, the way it widens
+  double radius = 0.0;                                   // cylinder, m; cone: the face's largest radius
+  double halfAngle = 0.0;                                // cone, rad: between its axis and its surface
+  bool convex = true;  // cylinder, cone: material inside (a shaft, a countersunk head); false: a hole, a countersink
+  double axialMin = 0.0, axialMax = 0.0;  // cylinder, cone: the face's extent along the axis, from `point`
   double area = 0.0;              // m^2
   bool fromSpline = false;        // a B-spline or other free-form surface recognised as this within tolerance
   std::size_t firstTriangle = 0;  // this face's triangles are CadSolid::mesh.triangles[first, first + count)

@@ -508,7 +508,7 @@ SurfacePatches classifySurfaces(const TriMesh& mesh, const CadSolid* cad, const 
   if (cad) {
     out.curved.assign(n, 0);
     for (const CadFace& f : cad->faces)
-      if (f.surface == CadFace::Surface::Other)
+      if (f.surface == CadFace::Surface::Other || f.surface == CadFace::Surface::Cone)
         for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < n; ++t) out.curved[t] = 1;
   }
   std::vector<char> facet(out.planes.size(), 0);

@@ -2,6 +2,7 @@
 
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 
 #include "vaw/atomic_file.hpp"
@@ -64,7 +65,11 @@ Ordered constraintJson(const Assembly& a, const Constraint& c) {
       if (c.found->seat != Constraint::Found::Seat::None) {
         f["seat"] = std::string(name(c.found->seat));
         f["seat_radius"] = c.found->seatRadius;
+        if (c.found->seat == Constraint::Found::Seat::Countersink)
+          f["seat_angle"] = c.found->seatAngle * 180.0 / std::numbers::pi;
       }
+    } else if (c.found->keyWidth > 0.0) {
+      f["key_width"] = c.found->keyWidth;
     }
     j["found"] = f;
   }
