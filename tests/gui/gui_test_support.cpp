@@ -25,6 +25,7 @@
 #include <QSignalSpy>
 #include <QTest>
 #include <QWheelEvent>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -307,17 +308,42 @@ void carryWithMouse(ui::MainWindow& window, PartId id, const Eigen::Isometry3d& 
   ui::Viewport* viewport = window.viewport();
   ui::SimulationController& sim = window.simulation();
   // A steep view from above that holds the part and its place, so that the parts waiting in a column do not
-  // hide each other: the hand moves on a plane facing it.
+  // hide each other: the hand moves on a plane facing it. Where the part shows: its top face's centre, or
+  // else the upward face of it nearest the top that no other part hides; from another side, or from
+  // straight above, where a taller part hides it (a spacer behind a motor).
   const Eigen::Vector3d from = sim.world().part(id).pose.translation();
   const Eigen::Vector3d centre = 0.5 * (from + target.translation());
   const double distance = 0.2 + 2.0 * (target.translation() - from).norm();
   Qt3DRender::QCamera* cam = viewport->camera();
-  cam->setViewCenter(toQt(centre));
-  cam->setPosition(toQt(centre + distance * Eigen::Vector3d(0.25, -0.6, 1.0).normalized()));
-  cam->setUpVector(QVector3D(0, 0, 1));
-  QVERIFY(!capture(viewport).isNull());
-  const QPoint p = viewport->projectToWindow(topFaceCentre(*sim.recorder().scene().assembly().parts[id].mesh, sim.world().part(id).pose)).toPoint();
-  QVERIFY2(viewport->rect().contains(p), name);
+  const TriMesh& mesh = *sim.recorder().scene().assembly().parts[id].mesh;
+  const Eigen::Isometry3d pose = sim.world().part(id).pose;
+  std::vector<Eigen::Vector3d> spots{topFaceCentre(mesh, pose)};
+  std::vector<std::pair<double, Eigen::Vector3d>> upward;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d a = pose * mesh.vertices[static_cast<std::size_t>(t[0])], b = pose * mesh.vertices[static_cast<std::size_t>(t[1])],
+                          c = pose * mesh.vertices[static_cast<std::size_t>(t[2])];
+    if ((b - a).cross(c - a).z() > 0.0) upward.emplace_back(-(a + b + c).z(), (a + b + c) / 3.0);
+  }
+  std::sort(upward.begin(), upward.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (const auto& u : upward) spots.push_back(u.second);
+  QPoint p(-1, -1);
+  for (const Eigen::Vector3d& side : {Eigen::Vector3d(0.25, -0.6, 1.0), Eigen::Vector3d(0.0, -0.05, 1.0), Eigen::Vector3d(-0.25, 0.6, 1.0)}) {
+    cam->setViewCenter(toQt(centre));
+    cam->setPosition(toQt(centre + distance * side.normalized()));
+    cam->setUpVector(QVector3D(0, 0, 1));
+    QVERIFY(!capture(viewport).isNull());
+    for (const Eigen::Vector3d& spot : spots) {
+      const QPoint at = viewport->projectToWindow(spot).toPoint();
+      if (!viewport->rect().contains(at)) continue;
+      const auto hit = viewport->pick(at);
+      if (hit && hit->part == id) {
+        p = at;
+        break;
+      }
+    }
+    if (viewport->rect().contains(p)) break;
+  }
+  QVERIFY2(viewport->rect().contains(p), qPrintable(QStringLiteral("%1 shows nowhere in the viewport").arg(QLatin1String(name))));
   pressAndDrag(viewport->view3d(), p, p + QPoint(0, -20), 4, 30);  // past the drag distance
   QTRY_COMPARE_WITH_TIMEOUT(sim.world().part(id).state, interact::PartState::InHand, 3000);
   QTest::qWait(100);

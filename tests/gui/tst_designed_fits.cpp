@@ -265,6 +265,26 @@ void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {
   QTRY_VERIFY2_WITH_TIMEOUT(state("rotationswelle") == PartState::Placed, "rotationswelle", 8000);
   carry("Kugellager", 3.0);
   QTRY_VERIFY2_WITH_TIMEOUT(state("Kugellager") == PartState::Placed, "Kugellager", 8000);
+  // A screw home by hand. What the table rests on goes in first: the four M4 screws that hold the bearing
+  // holder to it, the rack holder and the pinion's spacer (none has a constraint of its own: each released
+  // at its file pose) and the holder onto the shaft; then the table released in its place, and the rack
+  // holder's M4 screw let go above its clearance hole falls home through it: PLACED at its file pose.
+  for (const char* name : {"socket head cap screw_iso_ISO 4762 M4 x 12 - 12N", "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #2",
+                           "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #3", "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #4",
+                           "Zahnstangenhalterung", "zwischenstuckWelleRitzel"}) {
+    carry(name, 0.0);
+    QTRY_VERIFY2_WITH_TIMEOUT(state(name) == PartState::Placed, name, 8000);
+  }
+  carry("lagerhalterung", 3.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("lagerhalterung") == PartState::Placed, "lagerhalterung", 8000);
+  carry("Tischneu", 0.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state("Tischneu") == PartState::Placed, "Tischneu", 8000);
+  const char* tableScrew = "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #6";
+  carry(tableScrew, 4.0);
+  QTRY_VERIFY2_WITH_TIMEOUT(state(tableScrew) == PartState::Placed, tableScrew, 8000);
+  const Eigen::Isometry3d screwHome = *assembly().parts[part(tableScrew)].finalPose;
+  QVERIFY2((sim().world().part(part(tableScrew)).pose.translation() - screwHome.translation()).norm() < 1e-4, "the screw is home");
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-rotary-table-screw-home.png"));
   // An M4 thread clicked in the panel shows where it is.
   const QString screw = QStringLiteral("socket head cap screw_iso_ISO 4762 M4 x 12 - 12N");
   const QString nut = QStringLiteral("hex nut style 1 gradeab_iso_ISO - 4032 - M4 - W - N #4");
