@@ -186,10 +186,24 @@ void setCone(FaceOut& f, const gp_Pnt& apex, const gp_Dir& axis, double halfAngl
 
 }  // namespace
 
+bool analytic(const TopoDS_Face& face) {
+  switch (BRepAdaptor_Surface(face, false).GetType()) {
+    case GeomAbs_Plane:
+    case GeomAbs_Cylinder:
+    case GeomAbs_Cone:
+    case GeomAbs_Sphere:
+    case GeomAbs_Torus: return true;
+    default: return false;
+  }
+}
+
 FaceOut classify(const TopoDS_Face& face, double tol, const std::vector<gp_Pnt>& nodes) {
   FaceOut f;
+  // The area as the volume is integrated (step_solids.cpp, volumeProperties): at a fixed order on an analytic
+  // surface, adaptively on a free-form one.
   GProp_GProps sp;
-  BRepGProp::SurfaceProperties(face, sp, 1e-9);
+  if (analytic(face)) BRepGProp::SurfaceProperties(face, sp);
+  else BRepGProp::SurfaceProperties(face, sp, 1e-9);
   f.area = sp.Mass();
   const gp_Pnt centre = sp.CentreOfMass();
   const BRepAdaptor_Surface surface(face, true);

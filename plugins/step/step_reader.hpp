@@ -62,6 +62,10 @@ struct FaceOut {
   std::size_t firstTriangle = 0, triangleCount = 0;
 };
 
+// A plane, cylinder, cone, sphere or torus, on which Gauss integration at its fixed order is exact to a few
+// 1e-6; a free-form face needs the adaptive one.
+bool analytic(const TopoDS_Face& face);
+
 // A face's surface from the exact geometry; `nodes`: its tessellation, for a cylinder's axial extent.
 FaceOut classify(const TopoDS_Face& face, double tol, const std::vector<gp_Pnt>& nodes);
 

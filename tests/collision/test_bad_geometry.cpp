@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <memory>
 
 #include "collision_test_support.hpp"
 #include "vaw/collision/time_of_impact.hpp"
@@ -73,6 +74,31 @@ TEST(BadGeometry, DegenerateTrianglesAreLeftOutWithAWarning) {
   p.exercise(w);
   // Still a working box: its bottom face rests on the floor.
   EXPECT_TRUE(w.touching(w.support(p.a.constraints[0])).touching) << w.touching(w.support(p.a.constraints[0])).reason << " / " << w.support(p.a.constraints[0]).problem;
+}
+
+// A mesh's hierarchy is built once while the mesh lives and taken by every later world: each still reports
+// what is wrong with the mesh, naming its own part, and a mesh equal to a freed one is built anew.
+TEST(BadGeometry, AMeshTakenFromAnEarlierWorldIsReportedAsItsOwn) {
+  TriMesh m = primitives::box({0.02, 0.02, 0.02});
+  m.triangles.pop_back();
+  Probe p(m);
+  const auto first = std::make_unique<CollisionWorld>(p.a);
+  ASSERT_NE(find(first->diagnostics(), "collision.open-mesh"), nullptr);
+  Assembly renamed = p.a;
+  renamed.parts[1].name = "renamed";
+  const CollisionWorld second(renamed);
+  const Diagnostic* d = find(second.diagnostics(), "collision.open-mesh");
+  ASSERT_NE(d, nullptr);
+  EXPECT_EQ(d->file, "part \"renamed\"");
+  EXPECT_EQ(d->found, find(first->diagnostics(), "collision.open-mesh")->found);
+  EXPECT_EQ(second.info(ObjectId::part(1)).triangles, first->info(ObjectId::part(1)).triangles);
+  p.exercise(second);
+  // The same triangles in a new mesh of another shape: its own hierarchy, its own (here: no) warning.
+  Assembly closed = p.a;
+  closed.parts[1].mesh = std::make_shared<const TriMesh>(primitives::box({0.02, 0.02, 0.02}));
+  const CollisionWorld third(closed);
+  EXPECT_EQ(find(third.diagnostics(), "collision.open-mesh"), nullptr);
+  EXPECT_EQ(third.info(ObjectId::part(1)).triangles, 12u);
 }
 
 TEST(BadGeometry, OpenMeshIsWarnedAndStillCollides) {

@@ -2,6 +2,9 @@
 // broad phase, instances, poses, bounds and the objects near a box.
 #include "collision_world_impl.hpp"
 
+#include <mutex>
+#include <unordered_map>
+
 namespace vaw::collision {
 
 std::string_view name(FilterMode m) {
@@ -332,6 +335,85 @@ std::uint64_t meshHash(const TriMesh& m) {
   return h;
 }
 
+// A mesh's hierarchy and surface patches as buildMesh made them, kept while the mesh lives: a CAD product's
+// mesh goes into several worlds while it opens (units, who goes first, the check at rest, the window's
+// scene), and building it again for each was a fifth of those stages on a real export. Keyed by the mesh
+// (held weakly, so a mesh at a freed one's address is not taken for it), its CAD solid and the options.
+struct BuiltMesh {
+  std::weak_ptr<const TriMesh> mesh;
+  const CadSolid* cad = nullptr;
+  PatchOptions options;
+  WorldObject built;        // the geometry fields only
+  Diagnostics diagnostics;  // what building it reported, `file` naming the object that was built
+};
+
+class BuiltMeshes {
+ public:
+  // Fills `o` from a kept build of `mesh` and appends its diagnostics renamed for `o`; false when none.
+  bool take(WorldObject& o, const std::shared_ptr<const TriMesh>& mesh, const CadSolid* cad, const PatchOptions& options,
+            Diagnostics& diags) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    const auto it = kept_.find(mesh.get());
+    if (it == kept_.end()) return false;
+    const BuiltMesh& b = it->second;
+    if (b.mesh.lock() != mesh || b.cad != cad || !same(b.options, options)) return false;
+    copyGeometry(o, b.built);
+    o.info.proxyReason = b.built.info.proxyReason;
+    o.info.buildSeconds = b.built.info.buildSeconds;
+    for (Diagnostic d : b.diagnostics) {
+      d.file = displayName(o);
+      diags.push_back(std::move(d));
+    }
+    return true;
+  }
+  void keep(const WorldObject& o, const CadSolid* cad, const PatchOptions& options, Diagnostics diagnostics) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    // Entries of meshes that are gone are dropped when the store has doubled since the last sweep.
+    if (kept_.size() >= 2 * afterSweep_ + 64) {
+      std::erase_if(kept_, [](const auto& e) { return e.second.mesh.expired(); });
+      afterSweep_ = kept_.size();
+    }
+    BuiltMesh& b = kept_[o.mesh.get()];
+    b.mesh = o.mesh;
+    b.cad = cad;
+    b.options = options;
+    b.built = WorldObject{};
+    copyGeometry(b.built, o);
+    b.built.info.proxyReason = o.info.proxyReason;
+    b.built.info.buildSeconds = o.info.buildSeconds;
+    b.diagnostics = std::move(diagnostics);
+  }
+  static void copyGeometry(WorldObject& to, const WorldObject& from) {
+    to.mesh = from.mesh;
+    to.bvh = from.bvh;
+    to.geometry = from.geometry;
+    to.bvhToMesh = from.bvhToMesh;
+    to.patches = from.patches;
+    to.nodePlane = from.nodePlane;
+    to.nodeCylinder = from.nodeCylinder;
+    to.nodeBox = from.nodeBox;
+    to.localBounds = from.localBounds;
+    to.info.proxy = from.info.proxy;
+    to.info.triangles = from.info.triangles;
+    to.info.planarPatches = from.info.planarPatches;
+    to.info.cylindricalPatches = from.info.cylindricalPatches;
+  }
+
+ private:
+  static bool same(const PatchOptions& a, const PatchOptions& b) {
+    return a.distanceTolerance == b.distanceTolerance && a.angleTolerance == b.angleTolerance &&
+           a.maxFacetTurn == b.maxFacetTurn && a.minFacets == b.minFacets && a.weldTolerance == b.weldTolerance;
+  }
+  std::mutex mutex_;
+  std::unordered_map<const TriMesh*, BuiltMesh> kept_;
+  std::size_t afterSweep_ = 0;
+};
+
+BuiltMeshes& builtMeshes() {
+  static BuiltMeshes store;
+  return store;
+}
+
 Eigen::AlignedBox3d transformedBox(const Eigen::AlignedBox3d& b, const Eigen::Isometry3d& tf) {
   Eigen::AlignedBox3d out;
   if (b.isEmpty()) return out;
@@ -391,28 +473,22 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
       if (it->second->mesh == display || (it->second->mesh->vertices == display->vertices && it->second->mesh->triangles == display->triangles))
         same = it->second;
     if (same) {
-      const WorldObject& first = *same;
-      o.mesh = first.mesh;
-      o.bvh = first.bvh;
-      o.geometry = first.geometry;
-      o.bvhToMesh = first.bvhToMesh;
-      o.patches = first.patches;
-      o.nodePlane = first.nodePlane;
-      o.nodeCylinder = first.nodeCylinder;
-      o.nodeBox = first.nodeBox;
-      o.localBounds = first.localBounds;
-      o.info.proxy = first.info.proxy;
-      o.info.triangles = first.info.triangles;
-      o.info.planarPatches = first.info.planarPatches;
-      o.info.cylindricalPatches = first.info.cylindricalPatches;
-      o.info.proxyReason = "full mesh, shared with " + displayName(first);
+      BuiltMeshes::copyGeometry(o, *same);
+      o.info.proxyReason = "full mesh, shared with " + displayName(*same);
       return;
     }
-    buildMesh(o, display, options.patches, w.diagnostics, cad);
+    if (builtMeshes().take(o, display, cad, options.patches, w.diagnostics)) {
+      built.emplace(key, &o);
+      return;
+    }
+    Diagnostics found;
+    buildMesh(o, display, options.patches, found, cad);
+    w.diagnostics.insert(w.diagnostics.end(), found.begin(), found.end());
     if (o.bvh) {
       o.info.proxy = ProxyKind::Mesh;
       o.info.proxyReason = "full mesh";
       built.emplace(key, &o);
+      builtMeshes().keep(o, cad, options.patches, std::move(found));
     }
   };
   for (std::size_t i = 0; i < assembly.parts.size(); ++i) {
@@ -588,7 +664,8 @@ double CollisionWorld::maxRadius(ObjectId id, const Eigen::Vector3d& point) cons
     for (const auto& v : o.mesh->vertices)
       if (v.allFinite()) r = std::max(r, (v - point).norm());
   } else if (!o.localBounds.isEmpty()) {
-    for (int i = 0; i < 8; ++i) r = std::max(r, (o.localBounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)) - point).norm());
+    for (int i = 0; i < 8; ++i)
+      r = std::max(r, (o.localBounds.corner(static_cast<Eigen::AlignedBox3d::CornerType>(i)) - point).norm());
   }
   return r;
 }
@@ -636,9 +713,8 @@ std::vector<ObjectId> CollisionWorld::near(const Eigen::AlignedBox3d& box, std::
   for (const ObjectId& id : data.found)
     if (!except || !(id == *except)) out.push_back(id);
   // Deterministic order: parts by id, then environment objects.
-  std::sort(out.begin(), out.end(), [](const ObjectId& a, const ObjectId& b) {
-    return a.kind != b.kind ? a.kind < b.kind : a.index < b.index;
-  });
+  std::sort(out.begin(), out.end(),
+            [](const ObjectId& a, const ObjectId& b) { return a.kind != b.kind ? a.kind < b.kind : a.index < b.index; });
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
