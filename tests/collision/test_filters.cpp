@@ -36,6 +36,27 @@ double maxPenetration(const QueryResult& r) {
 
 }  // namespace
 
+// A pair wholly on either side of one's large face, each reaching it, can only touch (the check at rest
+// counts it as touching without walking the plate's hierarchy); lifted, sunk into the other, or a bolt
+// through it, it is no such pair. (Only a part's four largest faces are tried: a cover on a plate.)
+TEST(Filters, APartRestingOnAnotherFaceIsToldFromItsBoxes) {
+  const auto world = [](double gap, double boltLength) {
+    ctest::SceneBuilder b;
+    b.part("plate", primitives::box({0.125, 0.125, 0.02}), at(0, 0, 0.01));
+    b.part("cover", primitives::box({0.0625, 0.0625, 0.005}), at(0.01, 0.005, 0.02 + 0.0025 + gap));
+    if (boltLength > 0.0) b.part("bolt", primitives::box({0.01, 0.01, boltLength}), at(-0.04, 0, 0.02 - 0.5 * boltLength + 0.005));
+    b.base(0);
+    return CollisionWorld(b.a);
+  };
+  const ObjectId plate = ObjectId::part(0), cover = ObjectId::part(1), bolt = ObjectId::part(2);
+  EXPECT_TRUE(world(0.0, 0.0).restOnEachOther(cover, plate));
+  EXPECT_TRUE(world(0.0, 0.0).restOnEachOther(plate, cover));
+  EXPECT_FALSE(world(1e-4, 0.0).restOnEachOther(cover, plate)) << "0.1 mm above: not reaching the face";
+  EXPECT_FALSE(world(-1e-3, 0.0).restOnEachOther(cover, plate)) << "1 mm into the plate";
+  // The bolt's top 5 mm stand above the plate, its shank down through it.
+  EXPECT_FALSE(world(0.0, 0.03).restOnEachOther(bolt, plate));
+}
+
 TEST(Filters, ExactlyTouchingFacesUnderEachMode) {
   TwoBoxes t(0.0);
   QueryOptions o;

@@ -649,6 +649,35 @@ const Eigen::Isometry3d& CollisionWorld::pose(ObjectId id) const { return impl_-
 
 Eigen::AlignedBox3d CollisionWorld::worldBounds(ObjectId id) const { return worldBounds(id, impl_->get(id).pose); }
 
+bool CollisionWorld::restOnEachOther(ObjectId a, ObjectId b) const {
+  const WorldObject& A = impl_->get(a);
+  const WorldObject& B = impl_->get(b);
+  if (!A.bvh || !B.bvh || !A.nodeBox || !B.nodeBox || A.nodeBox->empty() || B.nodeBox->empty()) return false;
+  // Each object's extent along a world direction, from its hierarchy's root box in its own frame.
+  const auto extent = [](const WorldObject& o, const Eigen::Vector3d& n) {
+    const Eigen::AlignedBox3d& box = (*o.nodeBox)[0];
+    const Eigen::Vector3d local = o.pose.linear().transpose() * n;
+    const double centre = n.dot(o.pose * box.center()), half = local.cwiseAbs().dot(0.5 * box.sizes());
+    return std::pair{centre - half, centre + half};
+  };
+  const auto across = [&](const WorldObject& owner, const WorldObject& other, int k) {
+    const PlanarPatch& p = owner.patches->planes[static_cast<std::size_t>(k)];
+    const double room = impl_->tol.distance - p.residual;
+    if (room < 0.0) return false;
+    const Eigen::Vector3d n = (owner.pose.linear() * p.normal).normalized();
+    const double level = n.dot(owner.pose * p.origin);
+    const auto [lo, hi] = extent(owner, n);
+    const auto [otherLo, otherHi] = extent(other, n);
+    // The face points out of its owner: the owner below the plane, the other above, both reaching it.
+    return std::abs(hi - level) <= room && std::abs(otherLo - level) <= room && lo < level && otherHi > level;
+  };
+  for (const int k : A.patches->largestPlanes)
+    if (across(A, B, k)) return true;
+  for (const int k : B.patches->largestPlanes)
+    if (across(B, A, k)) return true;
+  return false;
+}
+
 Eigen::AlignedBox3d CollisionWorld::worldBounds(ObjectId id, const Eigen::Isometry3d& pose) const {
   const WorldObject& o = impl_->get(id);
   if (!o.geometry) return {};

@@ -216,6 +216,14 @@ std::optional<Interference> overlapAtRest(const CollisionWorld& world, const Ass
     if (between && c.type == Constraint::Type::Insert && c.found && c.found->fit != Constraint::Found::Fit::Clearance) designed = &c;
   }
   const ObjectId a = ObjectId::part(p), b = ObjectId::part(q);
+  // Wholly on either side of a face one rests on the other with (a cover on the plate): they only touch,
+  // and the queries below would walk every node of the plate to say so.
+  if (!designed && world.restOnEachOther(a, b)) {
+    Interference contact;
+    contact.a = p;
+    contact.b = q;
+    return contact;
+  }
   QueryOptions any;
   any.stopAtFirst = true;
   if (!designed && world.query(a, b, any).contacts.empty()) return std::nullopt;

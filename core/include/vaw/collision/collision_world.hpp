@@ -229,6 +229,10 @@ class CollisionWorld {
   void setPose(ObjectId id, const Eigen::Isometry3d& pose);
   [[nodiscard]] const Eigen::Isometry3d& pose(ObjectId id) const;
   // World box around the object's local bounding box at its pose (or at `pose`); empty without geometry.
+  // Whether a and b lie wholly on either side of the plane of one of their largest flat faces, each reaching
+  // it (within the distance tolerance, at their poses): a cover on a plate, a foot on a floor. Such a pair
+  // can at most touch in that plane; docs/collision.md, "Separating planes".
+  [[nodiscard]] bool restOnEachOther(ObjectId a, ObjectId b) const;
   [[nodiscard]] Eigen::AlignedBox3d worldBounds(ObjectId id) const;
   [[nodiscard]] Eigen::AlignedBox3d worldBounds(ObjectId id, const Eigen::Isometry3d& pose) const;
   // Largest distance of the object's collision geometry from a point / line in its own frame (m): the
