@@ -141,6 +141,16 @@ struct Verdict {
   double value = 0.0, limit = 0.0;
 };
 
+// Two faces' extents along one axis, [a0, a1] and [b0, b1]: their overlap in `overlap`, refused when it is
+// no more than a touch at an end (a fraction of the shorter, or the distance tolerance).
+Verdict axialOverlap(double a0, double a1, double b0, double b1, const RecognitionTolerances& tol, double& overlap) {
+  overlap = std::min(a1, b1) - std::max(a0, b0);
+  const double shorter = std::min(a1 - a0, b1 - b0);
+  if (!(overlap > tol.minOverlapRel * shorter && overlap > tol.distance))
+    return {Refusal::NoAxialOverlap, overlap, std::max(tol.minOverlapRel * shorter, tol.distance)};
+  return {};
+}
+
 // Radii apart by less than this (m) are one radius as an export rounds it.
 constexpr double kRounding = 1e-6;
 
@@ -169,10 +179,8 @@ Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTole
   const double shift = u.dot(rel);
   double s0 = shift + s * shaft.axialMin, s1 = shift + s * shaft.axialMax;
   if (s0 > s1) std::swap(s0, s1);
-  const double overlap = std::min(s1, bore.axialMax) - std::max(s0, bore.axialMin);
-  const double shorter = std::min(s1 - s0, bore.axialMax - bore.axialMin);
-  if (!(overlap > tol.minOverlapRel * shorter && overlap > tol.distance))
-    return {Refusal::NoAxialOverlap, overlap, std::max(tol.minOverlapRel * shorter, tol.distance)};
+  double overlap = 0.0;
+  if (const Verdict v = axialOverlap(s0, s1, bore.axialMin, bore.axialMax, tol, overlap); v.refusal != Refusal::None) return v;
   f = FoundConstraint{};
   f.type = Constraint::Type::Insert;
   f.point = bore.point;
@@ -207,11 +215,10 @@ Verdict testCountersink(const WorldFace& x, const WorldFace& y, const Recognitio
   // Apexes apart along the axis: the surfaces stand apart by that times the sine of the half angle.
   const double gap = std::abs(along) * std::sin(sink.face->halfAngle);
   if (gap > tol.distance) return {Refusal::ConesApart, gap, tol.distance};
-  const double h0 = along + head.axialMin, h1 = along + head.axialMax;
-  const double overlap = std::min(h1, sink.axialMax) - std::max(h0, sink.axialMin);
-  const double shorter = std::min(h1 - h0, sink.axialMax - sink.axialMin);
-  if (!(overlap > tol.minOverlapRel * shorter && overlap > tol.distance))
-    return {Refusal::NoAxialOverlap, overlap, std::max(tol.minOverlapRel * shorter, tol.distance)};
+  double overlap = 0.0;
+  if (const Verdict v = axialOverlap(along + head.axialMin, along + head.axialMax, sink.axialMin, sink.axialMax, tol, overlap);
+      v.refusal != Refusal::None)
+    return v;
   f = FoundConstraint{};
   f.type = Constraint::Type::Insert;
   f.point = sink.point;

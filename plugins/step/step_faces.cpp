@@ -159,16 +159,21 @@ void axialExtent(FaceOut& f, const std::vector<gp_Pnt>& nodes) {
   if (lo <= hi) f.axialMin = lo, f.axialMax = hi;
 }
 
+// Material inside (a shaft, a countersunk head) when the outward normal at a point of the surface points
+// away from the axis.
+bool materialInside(const gp_Pnt& axisPoint, const gp_Dir& axis, const std::optional<gp_Dir>& outward, const gp_Pnt& onSurface) {
+  gp_Vec radial(axisPoint, onSurface);
+  radial -= gp_Vec(axis) * radial.Dot(gp_Vec(axis));
+  return !outward || radial.Dot(gp_Vec(*outward)) >= 0.0;
+}
+
 void setCylinder(FaceOut& f, const gp_Pnt& axisPoint, const gp_Dir& axis, double radius, const std::optional<gp_Dir>& outward,
                  const gp_Pnt& onSurface) {
   f.surface = vaw::step::SurfaceKind::Cylinder;
   f.point = axisPoint;
   f.direction = axis;
   f.radius = radius;
-  // Material inside (a shaft) when the outward normal points away from the axis.
-  gp_Vec radial(axisPoint, onSurface);
-  radial -= gp_Vec(axis) * radial.Dot(gp_Vec(axis));
-  f.convex = !outward || radial.Dot(gp_Vec(*outward)) >= 0.0;
+  f.convex = materialInside(axisPoint, axis, outward, onSurface);
 }
 
 void setCone(FaceOut& f, const gp_Pnt& apex, const gp_Dir& axis, double halfAngle, const std::optional<gp_Dir>& outward,
@@ -177,9 +182,7 @@ void setCone(FaceOut& f, const gp_Pnt& apex, const gp_Dir& axis, double halfAngl
   f.point = apex;
   f.direction = axis;
   f.halfAngle = halfAngle;
-  gp_Vec radial(apex, onSurface);
-  radial -= gp_Vec(axis) * radial.Dot(gp_Vec(axis));
-  f.convex = !outward || radial.Dot(gp_Vec(*outward)) >= 0.0;
+  f.convex = materialInside(apex, axis, outward, onSurface);
   axialExtent(f, nodes);
   f.radius = std::max(0.0, f.axialMax) * std::tan(halfAngle);
 }
