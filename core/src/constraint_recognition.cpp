@@ -55,11 +55,17 @@ struct Tri2 {
 
 // A planar face's triangles in the 2-D frame (origin, e1, e2) of the common plane; with `within`, only
 // those whose box meets it (a 2 m plate's face has thousands of triangles, the washer on it a few dozen).
+// `only`: just these of its triangles (ascending), where a FaceGrid has found the few that can matter.
 std::vector<Tri2> faceTriangles(const CadSolid& s, const CadFace& f, const Eigen::Isometry3d& pose, const Eigen::Vector3d& origin,
-                                const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, const Eigen::AlignedBox2d* within = nullptr) {
+                                const Eigen::Vector3d& e1, const Eigen::Vector3d& e2, const Eigen::AlignedBox2d* within = nullptr,
+                                const std::vector<std::size_t>* only = nullptr) {
   std::vector<Tri2> out;
   if (!within) out.reserve(f.triangleCount);
-  for (std::size_t t = f.firstTriangle; t < f.firstTriangle + f.triangleCount && t < s.mesh.triangles.size(); ++t) {
+  const std::size_t end = std::min(f.firstTriangle + f.triangleCount, s.mesh.triangles.size());
+  const std::size_t count = only ? only->size() : end - std::min(f.firstTriangle, end);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::size_t t = only ? (*only)[i] : f.firstTriangle + i;
+    if (t >= end) continue;
     std::array<P, 3> corners;
     Eigen::AlignedBox2d box;
     for (int k = 0; k < 3; ++k) {
@@ -81,6 +87,88 @@ Eigen::Vector3d anyPerpendicular(const Eigen::Vector3d& n) {
   const Eigen::Vector3d t = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
   return n.cross(t).normalized();
 }
+
+// A large planar face's triangles in a grid over its plane, in its solid's frame, so that the few that can
+// meet a small face lying on it are found without projecting every one: a 2.8 m plate's face has tens of
+// thousands of triangles and meets a thousand small faces.
+class FaceGrid {
+ public:
+  FaceGrid(const CadSolid& s, const CadFace& f)
+      : origin_(f.point), e1_(anyPerpendicular(f.direction.normalized())), e2_(f.direction.normalized().cross(e1_)) {
+    const std::size_t end = std::min(f.firstTriangle + f.triangleCount, s.mesh.triangles.size());
+    std::vector<std::pair<std::size_t, Eigen::AlignedBox2d>> boxes;
+    double sizes = 0.0;
+    for (std::size_t t = f.firstTriangle; t < end; ++t) {
+      Eigen::AlignedBox2d box;
+      for (int k = 0; k < 3; ++k) {
+        const auto vi = static_cast<std::size_t>(s.mesh.triangles[t][k]);
+        if (vi < s.mesh.vertices.size()) box.extend(project(s.mesh.vertices[vi]));
+      }
+      if (box.isEmpty()) continue;
+      bounds_.extend(box);
+      sizes += box.sizes().maxCoeff();
+      boxes.emplace_back(t, box);
+    }
+    if (boxes.empty()) return;
+    // Cells about a triangle's size, and no more of them than triangles.
+    const double n = static_cast<double>(boxes.size());
+    cell_ = std::max({sizes / n, std::sqrt(bounds_.sizes().prod() / n), bounds_.sizes().maxCoeff() / 512.0, 1e-9});
+    nx_ = static_cast<int>(bounds_.sizes().x() / cell_) + 1;
+    ny_ = static_cast<int>(bounds_.sizes().y() / cell_) + 1;
+    cells_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
+    for (const auto& [t, box] : boxes) forCells(box, [&](std::vector<std::size_t>& c) { c.push_back(t); });
+  }
+  [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d d = p - origin_;
+    return {d.dot(e1_), d.dot(e2_)};
+  }
+  // Ascending indices of the triangles whose boxes may meet `box` (in the grid's plane coordinates).
+  [[nodiscard]] std::vector<std::size_t> near(const Eigen::AlignedBox2d& box) const {
+    std::vector<std::size_t> out;
+    if (cells_.empty()) return out;
+    const_cast<FaceGrid*>(this)->forCells(box, [&](std::vector<std::size_t>& c) { out.insert(out.end(), c.begin(), c.end()); });
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+    return out;
+  }
+
+ private:
+  template <class Visit>
+  void forCells(const Eigen::AlignedBox2d& box, Visit&& visit) {
+    const auto index = [&](double v, double lo, int n) {
+      return std::clamp(static_cast<int>(std::floor((v - lo) / cell_)), 0, n - 1);
+    };
+    if (box.isEmpty() || !box.intersects(bounds_)) return;
+    const int x0 = index(box.min().x(), bounds_.min().x(), nx_), x1 = index(box.max().x(), bounds_.min().x(), nx_);
+    const int y0 = index(box.min().y(), bounds_.min().y(), ny_), y1 = index(box.max().y(), bounds_.min().y(), ny_);
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x)
+        visit(cells_[static_cast<std::size_t>(y) * static_cast<std::size_t>(nx_) + static_cast<std::size_t>(x)]);
+  }
+  Eigen::Vector3d origin_, e1_, e2_;
+  Eigen::AlignedBox2d bounds_;
+  double cell_ = 1.0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<std::vector<std::size_t>> cells_;
+};
+
+// The grids of the large faces one recognition meets, made when first asked for.
+class FaceGrids {
+ public:
+  static constexpr std::size_t kLarge = 512;  // triangles
+  const FaceGrid* of(const CadSolid& s, const CadFace& f) {
+    if (f.triangleCount < kLarge) return nullptr;
+    auto it = grids_.find(&f);
+    if (it == grids_.end()) it = grids_.emplace(&f, std::make_unique<FaceGrid>(s, f)).first;
+    return it->second.get();
+  }
+
+ private:
+  std::map<const CadFace*, std::unique_ptr<FaceGrid>> grids_;
+};
+
+double overlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b, const CadFace& fb,
+                   const Eigen::Isometry3d& poseB, FaceGrids* grids);
 
 struct WorldFace {
   const CadFace* face = nullptr;
@@ -236,7 +324,7 @@ Verdict testCountersink(const WorldFace& x, const WorldFace& y, const Recognitio
 // Opposed normals, one plane, and a common area that is more than an edge. On success `f` holds the mate,
 // its direction x's outward normal.
 Verdict testMate(const RecognitionPart& A, const WorldFace& x, const RecognitionPart& B, const WorldFace& y,
-                 const RecognitionTolerances& tol, FoundConstraint& f) {
+                 const RecognitionTolerances& tol, FoundConstraint& f, FaceGrids* grids = nullptr) {
   const double cosine = x.direction.dot(y.direction);
   if (cosine > -1.0 + 0.5 * tol.angle * tol.angle) {
     if (cosine > 1.0 - 0.5 * tol.angle * tol.angle) return {Refusal::SameWay, 0.0, tol.angle};
@@ -244,7 +332,7 @@ Verdict testMate(const RecognitionPart& A, const WorldFace& x, const Recognition
   }
   const double gap = std::abs(x.direction.dot(y.point - x.point));
   if (gap > tol.distance) return {Refusal::PlanesApart, gap, tol.distance};
-  const double area = coplanarOverlapArea(*A.solid, *x.face, A.pose, *B.solid, *y.face, B.pose);
+  const double area = overlapArea(*A.solid, *x.face, A.pose, *B.solid, *y.face, B.pose, grids);
   const double smaller = std::min(x.face->area, y.face->area);
   if (!(area > tol.minOverlapRel * smaller)) return {Refusal::NoArea, area, tol.minOverlapRel * smaller};
   f = FoundConstraint{};
@@ -458,6 +546,13 @@ void keysInSlots(std::vector<FoundConstraint>& found, const RecognitionTolerance
 
 double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b,
                            const CadFace& fb, const Eigen::Isometry3d& poseB) {
+  return overlapArea(a, fa, poseA, b, fb, poseB, nullptr);
+}
+
+namespace {
+
+double overlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Isometry3d& poseA, const CadSolid& b, const CadFace& fb,
+                   const Eigen::Isometry3d& poseB, FaceGrids* grids) {
   const Eigen::Vector3d n = (poseA.linear() * fa.direction).normalized();
   const Eigen::Vector3d e1 = anyPerpendicular(n), e2 = n.cross(e1);
   const Eigen::Vector3d origin = poseA * fa.point;
@@ -468,8 +563,28 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
   Eigen::AlignedBox2d reach;
   for (const Tri2& t : few) reach.extend(t.box);
   if (reach.isEmpty()) return 0.0;
-  const std::vector<Tri2> near =
-      aFirst ? faceTriangles(b, fb, poseB, origin, e1, e2, &reach) : faceTriangles(a, fa, poseA, origin, e1, e2, &reach);
+  // Of a large face only the triangles its grid finds under the small face (in the large one's frame).
+  const CadSolid& large = aFirst ? b : a;
+  const CadFace& largeFace = aFirst ? fb : fa;
+  const Eigen::Isometry3d& largePose = aFirst ? poseB : poseA;
+  std::optional<std::vector<std::size_t>> only;
+  if (const FaceGrid* grid = grids ? grids->of(large, largeFace) : nullptr) {
+    const CadSolid& small = aFirst ? a : b;
+    const CadFace& smallFace = aFirst ? fa : fb;
+    const Eigen::Isometry3d toLarge = largePose.inverse() * (aFirst ? poseA : poseB);
+    Eigen::AlignedBox2d under;
+    for (std::size_t t = smallFace.firstTriangle;
+         t < smallFace.firstTriangle + smallFace.triangleCount && t < small.mesh.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k) {
+        const auto vi = static_cast<std::size_t>(small.mesh.triangles[t][k]);
+        if (vi < small.mesh.vertices.size()) under.extend(grid->project(toLarge * small.mesh.vertices[vi]));
+      }
+    // Grown by far more than round-off, so that a triangle the box test below would keep is never missed.
+    under.min().array() -= 1e-6;
+    under.max().array() += 1e-6;
+    only = grid->near(under);
+  }
+  const std::vector<Tri2> near = faceTriangles(large, largeFace, largePose, origin, e1, e2, &reach, only ? &*only : nullptr);
   double total = 0.0;
   for (const Tri2& x : few)
     for (const Tri2& y : near) {
@@ -479,8 +594,6 @@ double coplanarOverlapArea(const CadSolid& a, const CadFace& fa, const Eigen::Is
     }
   return total;
 }
-
-namespace {
 
 // Candidate pairs of parts (index order) whose boxes, grown by `margin`, meet: a sweep along x.
 std::vector<std::pair<std::size_t, std::size_t>> candidatePairs(const std::vector<RecognitionPart>& parts, double margin) {
@@ -511,6 +624,7 @@ std::vector<NearMiss> nearMisses(const std::vector<RecognitionPart>& parts, cons
   constexpr double kAngle = 0.0175;  // rad, about 1 degree
   constexpr double kApart = 0.5e-3;  // m
   std::vector<NearMiss> out;
+  FaceGrids grids;
   const auto add = [&](std::size_t i, std::size_t j, const WorldFace& x, const WorldFace& y, Constraint::Type type, const Verdict& v) {
     out.push_back({i, j, x.index, y.index, type, describe(v), v.value, v.limit});
   };
@@ -547,10 +661,10 @@ std::vector<NearMiss> nearMisses(const std::vector<RecognitionPart>& parts, cons
       for (const WorldFace& y : pj) {
         if (x.direction.dot(y.direction) > -std::cos(kAngle) || std::abs(x.direction.dot(y.point - x.point)) > kApart) continue;
         FoundConstraint f;
-        const Verdict v = testMate(parts[i], x, parts[j], y, tol, f);
+        const Verdict v = testMate(parts[i], x, parts[j], y, tol, f, &grids);
         if (v.refusal != Refusal::NotFacing && v.refusal != Refusal::PlanesApart) continue;
         // Over each other by more than an edge: their faces projected into x's plane share area.
-        const double area = coplanarOverlapArea(*parts[i].solid, *x.face, parts[i].pose, *parts[j].solid, *y.face, parts[j].pose);
+        const double area = overlapArea(*parts[i].solid, *x.face, parts[i].pose, *parts[j].solid, *y.face, parts[j].pose, &grids);
         if (area > tol.minOverlapRel * std::min(x.face->area, y.face->area)) add(i, j, x, y, Constraint::Type::Mate, v);
       }
   }
@@ -580,6 +694,7 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
     cones[i] = worldFaces(parts[i], CadFace::Surface::Cone);
   }
   std::vector<FoundConstraint> seats;
+  FaceGrids grids;
   for (std::size_t k = 0; k < pairs.size(); ++k) {
     const auto [i, j] = pairs[k];
     if (progress && !progress(static_cast<double>(k) / static_cast<double>(pairs.size()), i, j)) throw LoadCancelled();
@@ -589,7 +704,7 @@ std::vector<FoundConstraint> recognizeConstraints(const std::vector<RecognitionP
         if (testInsert(x, y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
     for (const WorldFace& x : planes[i])
       for (const WorldFace& y : planes[j])
-        if (testMate(parts[i], x, parts[j], y, tol, f).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
+        if (testMate(parts[i], x, parts[j], y, tol, f, &grids).refusal == Refusal::None) out.push_back(between(f, i, j, x, y));
     for (const WorldFace& x : cones[i])
       for (const WorldFace& y : cones[j])
         if (testCountersink(x, y, tol, f).refusal == Refusal::None) seats.push_back(between(f, i, j, x, y));
