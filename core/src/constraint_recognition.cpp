@@ -116,7 +116,10 @@ class FaceGrid {
     nx_ = static_cast<int>(bounds_.sizes().x() / cell_) + 1;
     ny_ = static_cast<int>(bounds_.sizes().y() / cell_) + 1;
     cells_.resize(static_cast<std::size_t>(nx_) * static_cast<std::size_t>(ny_));
-    for (const auto& [t, box] : boxes) forCells(box, [&](std::vector<std::size_t>& c) { c.push_back(t); });
+    for (const auto& entry : boxes) {
+      const std::size_t t = entry.first;  // clang 14 takes no structured binding into a lambda
+      forCells(entry.second, [&](std::vector<std::size_t>& c) { c.push_back(t); });
+    }
   }
   [[nodiscard]] Eigen::Vector2d project(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d d = p - origin_;
