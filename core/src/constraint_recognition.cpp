@@ -242,6 +242,21 @@ Verdict axialOverlap(double a0, double a1, double b0, double b1, const Recogniti
   return {};
 }
 
+// An insert found between faces x (of part a) and y along `direction` through `point`, overlapping by
+// `overlap` (m) along it: what every insert records whatever the faces were.
+FoundConstraint insertOf(const WorldFace& x, const WorldFace& y, const Eigen::Vector3d& point, const Eigen::Vector3d& direction,
+                         double overlap) {
+  FoundConstraint f;
+  f.type = Constraint::Type::Insert;
+  f.point = point;
+  f.direction = direction;
+  f.found.partRadius = x.face->radius;
+  f.found.partnerRadius = y.face->radius;
+  f.found.overlap = overlap;
+  f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
+  return f;
+}
+
 // Radii apart by less than this (m) are one radius as an export rounds it.
 constexpr double kRounding = 1e-6;
 
@@ -272,15 +287,8 @@ Verdict testInsert(const WorldFace& x, const WorldFace& y, const RecognitionTole
   if (s0 > s1) std::swap(s0, s1);
   double overlap = 0.0;
   if (const Verdict v = axialOverlap(s0, s1, bore.axialMin, bore.axialMax, tol, overlap); v.refusal != Refusal::None) return v;
-  f = FoundConstraint{};
-  f.type = Constraint::Type::Insert;
-  f.point = bore.point;
-  f.direction = u;
-  f.found.partRadius = x.face->radius;
-  f.found.partnerRadius = y.face->radius;
+  f = insertOf(x, y, bore.point, u, overlap);
   f.found.clearance = std::max(0.0, clearance);
-  f.found.overlap = overlap;
-  f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
   if (designed) {
     f.found.fit = designed->fit;
     f.found.thread = designed->thread;
@@ -310,14 +318,7 @@ Verdict testCountersink(const WorldFace& x, const WorldFace& y, const Recognitio
   if (const Verdict v = axialOverlap(along + head.axialMin, along + head.axialMax, sink.axialMin, sink.axialMax, tol, overlap);
       v.refusal != Refusal::None)
     return v;
-  f = FoundConstraint{};
-  f.type = Constraint::Type::Insert;
-  f.point = sink.point;
-  f.direction = u;
-  f.found.partRadius = x.face->radius;
-  f.found.partnerRadius = y.face->radius;
-  f.found.overlap = overlap;
-  f.found.fromSpline = x.face->fromSpline || y.face->fromSpline;
+  f = insertOf(x, y, sink.point, u, overlap);
   f.found.seat = Constraint::Found::Seat::Countersink;
   f.found.seatRadius = sink.face->radius;
   f.found.seatAngle = sink.face->halfAngle;

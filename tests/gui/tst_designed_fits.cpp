@@ -59,6 +59,11 @@ class TestDesignedFits : public QObject {
   [[nodiscard]] PartId part(const char* name) const { return *assembly().findPart(name); }
   [[nodiscard]] PartState state(const char* name) const { return sim().world().part(part(name)).state; }
   void open(const QString& file);
+  // Carried to `mmAbove` over its place and let go, as a fitter does: true when it comes to rest PLACED.
+  [[nodiscard]] bool place(const char* name, double mmAbove, int timeoutMs) {
+    carry(name, mmAbove);
+    return !QTest::currentTestFailed() && QTest::qWaitFor([&] { return state(name) == PartState::Placed; }, timeoutMs);
+  }
   void carry(const char* name, double mmAbove) {
     Eigen::Isometry3d t = *assembly().parts[part(name)].finalPose;
     t.translation().z() += mmAbove * 1e-3;
@@ -147,13 +152,10 @@ void TestDesignedFits::aCapScrewGoesHomeThroughItsTappedHole() {
   // As a fitter: the dowels pressed into the base, the bracket over them, a cap screw into its counterbore
   // and on down through its thread at the tap drill: home, PLACED.
   for (const char* dowel : {"dowel-1", "dowel-2"}) {
-    carry(dowel, 3.0);
-    QTRY_VERIFY2_WITH_TIMEOUT(state(dowel) == PartState::Placed, dowel, 5000);
+    QVERIFY2(place(dowel, 3.0, 5000), dowel);
   }
-  carry("bracket", 3.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("bracket") == PartState::Placed, "bracket", 5000);
-  carry("cap-screw-1", 4.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("cap-screw-1") == PartState::Placed, "cap-screw-1", 5000);
+  QVERIFY2(place("bracket", 3.0, 5000), "bracket");
+  QVERIFY2(place("cap-screw-1", 4.0, 5000), "cap-screw-1");
   const Eigen::Isometry3d home = *assembly().parts[part("cap-screw-1")].finalPose;
   QVERIFY2((sim().world().part(part("cap-screw-1")).pose.translation() - home.translation()).norm() < 1e-4,
            "the screw is home, its head on the counterbore's floor, its shank 0.5 mm into the thread");
@@ -215,8 +217,7 @@ void TestDesignedFits::aBearingIsOneUnitUntilTakenApart() {
   QCOMPARE(window_->sceneDock()->model()->rowCount(bearing), 10);
   QVERIFY(bearing.data(Qt::ToolTipRole).toString().contains(QStringLiteral("A unit of 10 parts")));
   // It goes into its housing whole.
-  carry("bearing", 3.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("bearing") == PartState::Placed, "bearing", 5000);
+  QVERIFY2(place("bearing", 3.0, 5000), "bearing");
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-bearing-unit.png"));
 
   // Right-click it in the tree, Handle as parts: its rings and balls each a part.
@@ -261,10 +262,8 @@ void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {
   QVERIFY(assembly().parts[*assembly().base].name.rfind("Bodenplatte", 0) == 0);
   QVERIFY(assembly().findPart("NEMA 17_Predeterminado").has_value());
   // The shaft onto the floor plate and the lower bearing down over it, by hand.
-  carry("rotationswelle", 3.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("rotationswelle") == PartState::Placed, "rotationswelle", 8000);
-  carry("Kugellager", 3.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("Kugellager") == PartState::Placed, "Kugellager", 8000);
+  QVERIFY2(place("rotationswelle", 3.0, 8000), "rotationswelle");
+  QVERIFY2(place("Kugellager", 3.0, 8000), "Kugellager");
   // A screw home by hand. What the table rests on goes in first: the four M4 screws that hold the bearing
   // holder to it, the rack holder and the pinion's spacer (none has a constraint of its own: each released
   // at its file pose) and the holder onto the shaft; then the table released in its place, and the rack
@@ -272,16 +271,12 @@ void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {
   for (const char* name : {"socket head cap screw_iso_ISO 4762 M4 x 12 - 12N", "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #2",
                            "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #3", "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #4",
                            "Zahnstangenhalterung", "zwischenstuckWelleRitzel"}) {
-    carry(name, 0.0);
-    QTRY_VERIFY2_WITH_TIMEOUT(state(name) == PartState::Placed, name, 8000);
+    QVERIFY2(place(name, 0.0, 8000), name);
   }
-  carry("lagerhalterung", 3.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("lagerhalterung") == PartState::Placed, "lagerhalterung", 8000);
-  carry("Tischneu", 0.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state("Tischneu") == PartState::Placed, "Tischneu", 8000);
+  QVERIFY2(place("lagerhalterung", 3.0, 8000), "lagerhalterung");
+  QVERIFY2(place("Tischneu", 0.0, 8000), "Tischneu");
   const char* tableScrew = "socket head cap screw_iso_ISO 4762 M4 x 12 - 12N #6";
-  carry(tableScrew, 4.0);
-  QTRY_VERIFY2_WITH_TIMEOUT(state(tableScrew) == PartState::Placed, tableScrew, 8000);
+  QVERIFY2(place(tableScrew, 4.0, 8000), tableScrew);
   const Eigen::Isometry3d screwHome = *assembly().parts[part(tableScrew)].finalPose;
   QVERIFY2((sim().world().part(part(tableScrew)).pose.translation() - screwHome.translation()).norm() < 1e-4, "the screw is home");
   vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("designed-rotary-table-screw-home.png"));
@@ -295,7 +290,7 @@ void TestDesignedFits::theRotaryTableOpensAndShowsWhereItsThreadIs() {
 }
 
 // The feather key between the keyway's walls and between the hub slot's: one prismatic fit each, its width
-// in the Fit column; the key goes in before the hub in the Sequence panel's order.
+// in the Fit column; a click on its row shows its plane on the shaft.
 void TestDesignedFits::aKeyIsAPrismaticFitInTheConstraintsPanel() {
   const QString file =
       QDir(QDir::tempPath()).filePath(QStringLiteral("vaw-gui-keyed-%1.stp").arg(QCoreApplication::applicationPid()));
