@@ -662,7 +662,9 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
 
   StageClock clock(options.timings);
   // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
-  const std::map<std::string, std::string> units = detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, options.import, progress);
+  detail::SolidMeshes meshes(fileStr);
+  const std::map<std::string, std::string> units =
+      detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, options.import, meshes, progress);
   a.cadSplit = options.cadSplit;
   a.cadJoin = options.cadJoin;
   {
@@ -707,11 +709,10 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     const CadSolid& solid = *in.node->solid;
     auto it = shared.find(&solid);
     if (it == shared.end()) {
-      TriMesh mesh = solid.mesh;
       // The B-rep is closed (the reader keeps no other); a tessellation that stays open after the reader's
       // retries and the repair costs this part its exact collision, not the file.
-      const MeshCheck check =
-          detail::validateSolid(mesh, fileStr + " (product " + solid.product + ")", {}, detail::OpenMesh::Keep);
+      const detail::SolidMeshes::Checked& checked = meshes.of(in.node->solid);
+      const MeshCheck& check = checked.check;
       // Open edges only: a unit's parts that touch share edges between four triangles, which is no gap.
       if (check.boundaryEdges > 0)
         a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "product " + solid.product,
@@ -719,7 +720,7 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
                               check.summary() + "; kept: its mass properties are the exact B-rep's, but its collision mesh "
                                                 "has gaps a part could pass through there"});
       Shared s;
-      s.mesh = std::make_shared<const TriMesh>(std::move(mesh));
+      s.mesh = checked.mesh;
       if (!(solid.volume > 0.0) || !std::isfinite(solid.volume))
         fail(fileStr, "product " + solid.product, "a solid with a positive, finite volume", std::to_string(solid.volume) + " m^3");
       s.brep.volume = solid.volume;

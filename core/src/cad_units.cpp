@@ -61,7 +61,7 @@ std::string signature(const std::vector<Member>& members) {
 // Why the parts, on their own, do not come apart (an order of disassembly leaves some in: trapped), or
 // empty when they do. The same pipeline as a whole assembly's: constraints found, the part they stand on
 // as base, the order search.
-std::string trapped(const std::vector<Member>& members) {
+std::string trapped(const std::vector<Member>& members, SolidMeshes& meshes) {
   Assembly a;
   std::vector<Eigen::Isometry3d> poses;
   std::vector<RecognitionPart> rec;
@@ -70,9 +70,7 @@ std::string trapped(const std::vector<Member>& members) {
     Part p;
     p.id = i;
     p.name = m.name;
-    TriMesh mesh = m.solid->mesh;
-    validateSolid(mesh, m.name, {}, OpenMesh::Keep);
-    p.mesh = std::make_shared<const TriMesh>(std::move(mesh));
+    p.mesh = meshes.of(m.solid).mesh;
     p.cad = m.solid;
     p.mass.volume = m.solid->volume;
     p.mass.mass = m.solid->volume;  // density 1: only which is heavier matters here
@@ -169,6 +167,7 @@ struct Joiner {
   const std::set<std::string>& split;
   const std::set<std::string>& join;
   const ProgressFn& progress;
+  SolidMeshes& meshes;
   // Whether a sub-assembly comes apart takes a second of sweeps for a thirty-part servo: kept between
   // sessions like the reader's results, under the signature and vaw's build (docs/step.md, "Reopening a file").
   std::optional<KeptResults> kept;
@@ -180,7 +179,7 @@ struct Joiner {
     if (kept)
       if (const auto data = kept->find(file); data && !data->empty() && (*data)[0] == 'U')
         return std::string(data->begin() + 1, data->end());
-    const std::string why = trapped(members);
+    const std::string why = trapped(members, meshes);
     if (kept) {
       std::vector<std::uint8_t> data{'U'};
       data.insert(data.end(), why.begin(), why.end());
@@ -216,8 +215,8 @@ struct Joiner {
 }  // namespace
 
 std::map<std::string, std::string> joinUnits(ImportedNode& root, const std::set<std::string>& split, const std::set<std::string>& join,
-                                             const ImportOptions& import, const ProgressFn& progress) {
-  Joiner j{split, join, progress, KeptResults::under(import.resultCache, import.resultCacheMB, "units"), {}, {}};
+                                             const ImportOptions& import, SolidMeshes& meshes, const ProgressFn& progress) {
+  Joiner j{split, join, progress, meshes, KeptResults::under(import.resultCache, import.resultCacheMB, "units"), {}, {}};
   j.visit(root, true);
   return std::move(j.units);
 }

@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "load_detail.hpp"
 #include "vaw/importer.hpp"
 
 namespace vaw::detail {
@@ -14,8 +15,9 @@ namespace vaw::detail {
 // that `split` does not name, by one instance of a solid holding its parts' (shared by every instance of
 // the same sub-assembly); the instance keeps its parts as children, for their names. Returns, per unit's
 // name, why it is one.
-// `import`: where the decisions are kept between sessions (ImportOptions::resultCache).
+// `import`: where the decisions are kept between sessions (ImportOptions::resultCache); `meshes`: the
+// solids' checked meshes, shared with the parts made from them afterwards.
 std::map<std::string, std::string> joinUnits(ImportedNode& root, const std::set<std::string>& split, const std::set<std::string>& join,
-                                             const ImportOptions& import, const ProgressFn& progress = {});
+                                             const ImportOptions& import, SolidMeshes& meshes, const ProgressFn& progress = {});
 
 }  // namespace vaw::detail

@@ -60,6 +60,15 @@ MeshCheck detail::validateSolid(TriMesh& mesh, const std::string& file, const Pr
   return c;
 }
 
+const detail::SolidMeshes::Checked& detail::SolidMeshes::of(const std::shared_ptr<const CadSolid>& solid) {
+  if (const auto it = done_.find(solid.get()); it != done_.end()) return it->second.second;
+  TriMesh mesh = solid->mesh;
+  Checked c;
+  c.check = validateSolid(mesh, file_ + " (product " + solid->product + ")", {}, OpenMesh::Keep);
+  c.mesh = std::make_shared<const TriMesh>(std::move(mesh));
+  return done_.emplace(solid.get(), std::pair{solid, std::move(c)}).first->second.second;
+}
+
 namespace detail {
 
 void checkMeshFileSize(const std::filesystem::path& file, const std::optional<Node>& field) {

@@ -2,6 +2,9 @@
 // broad phase, instances, poses, bounds and the objects near a box.
 #include "collision_world_impl.hpp"
 
+#include "../on_cores.hpp"
+
+#include <deque>
 #include <mutex>
 #include <unordered_map>
 
@@ -437,18 +440,43 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
       if (oid == id) return mesh;
     return nullptr;
   };
-  std::multimap<std::uint64_t, const WorldObject*> built;
-  auto setupMesh = [&](WorldObject& o, const std::shared_ptr<const TriMesh>& display, const CadSolid* cad) {
+  // Each object's diagnostics in its own slot, appended in the objects' order at the end: the builds run
+  // side by side and finish in any order.
+  std::deque<Diagnostics> slots;
+  // Meshes built here: on every core (building the hierarchies and patches was most of a world's
+  // construction for a product of many parts), each distinct mesh once.
+  struct Pending {
+    WorldObject* o;
+    const CadSolid* cad;
+    Diagnostics* diags;
+    Diagnostics found;
+  };
+  std::vector<Pending> pending;
+  struct Copy {
+    WorldObject* o;
+    std::size_t from;  // in `pending`
+    const CadSolid* cad;
+    Diagnostics* diags;
+  };
+  std::vector<Copy> copies;
+  // Parts with the same mesh (one mesh file used many times: bolts, nuts) share its hierarchy and
+  // patches: built once. Found by a hash of the geometry and confirmed by comparing it. The value: a
+  // built object, or (null) the pending build it waits for.
+  std::multimap<std::uint64_t, std::pair<const WorldObject*, std::size_t>> built;
+  const auto sameMesh = [](const TriMesh& a, const std::shared_ptr<const TriMesh>& b) {
+    return &a == b.get() || (a.vertices == b->vertices && a.triangles == b->triangles);
+  };
+  auto setupMesh = [&](WorldObject& o, const std::shared_ptr<const TriMesh>& display, const CadSolid* cad, Diagnostics& diags) {
     o.info.displayTriangles = display ? display->triangleCount() : 0;
     o.deflection = cad ? cad->deflection : 0.0;
     if (!display) {
-      warn(w.diagnostics, Diagnostic::Severity::Error, displayName(o), "no-geometry", "a mesh", "none");
+      warn(diags, Diagnostic::Severity::Error, displayName(o), "no-geometry", "a mesh", "none");
       o.info.proxy = ProxyKind::None;
       o.info.proxyReason = "no mesh";
       return;
     }
     if (auto simple = simplifiedFor(o.id)) {
-      buildMesh(o, simple, options.patches, w.diagnostics);
+      buildMesh(o, simple, options.patches, diags);
       if (o.bvh) {
         o.info.proxy = ProxyKind::SimplifiedMesh;
         // Two-sided sampled distance between the simplified and the full mesh.
@@ -465,31 +493,27 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
         return;
       }
     }
-    // Parts with the same mesh (one mesh file used many times: bolts, nuts) share its hierarchy and
-    // patches: built once. Found by a hash of the geometry and confirmed by comparing it.
     const std::uint64_t key = meshHash(*display);
-    const WorldObject* same = nullptr;
-    for (auto [it, end] = built.equal_range(key); it != end && !same; ++it)
-      if (it->second->mesh == display || (it->second->mesh->vertices == display->vertices && it->second->mesh->triangles == display->triangles))
-        same = it->second;
-    if (same) {
-      BuiltMeshes::copyGeometry(o, *same);
-      o.info.proxyReason = "full mesh, shared with " + displayName(*same);
+    for (auto [it, end] = built.equal_range(key); it != end; ++it) {
+      const auto [done, waitFor] = it->second;
+      if (done && sameMesh(*done->mesh, display)) {
+        BuiltMeshes::copyGeometry(o, *done);
+        o.info.proxyReason = "full mesh, shared with " + displayName(*done);
+        return;
+      }
+      if (!done && sameMesh(*pending[waitFor].o->mesh, display)) {
+        copies.push_back({&o, waitFor, cad, &diags});
+        o.mesh = display;
+        return;
+      }
+    }
+    if (builtMeshes().take(o, display, cad, options.patches, diags)) {
+      built.emplace(key, std::pair{&o, std::size_t{0}});
       return;
     }
-    if (builtMeshes().take(o, display, cad, options.patches, w.diagnostics)) {
-      built.emplace(key, &o);
-      return;
-    }
-    Diagnostics found;
-    buildMesh(o, display, options.patches, found, cad);
-    w.diagnostics.insert(w.diagnostics.end(), found.begin(), found.end());
-    if (o.bvh) {
-      o.info.proxy = ProxyKind::Mesh;
-      o.info.proxyReason = "full mesh";
-      built.emplace(key, &o);
-      builtMeshes().keep(o, cad, options.patches, std::move(found));
-    }
+    o.mesh = display;
+    built.emplace(key, std::pair{nullptr, pending.size()});
+    pending.push_back({&o, cad, &diags, {}});
   };
   for (std::size_t i = 0; i < assembly.parts.size(); ++i) {
     const Part& p = assembly.parts[i];
@@ -499,7 +523,7 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     o.info.name = p.name;
     o.pose = p.pose;
     o.com = p.mass.centerOfMass;
-    setupMesh(o, p.mesh, p.cad.get());
+    setupMesh(o, p.mesh, p.cad.get(), slots.emplace_back());
   }
   for (std::size_t i = 0; i < assembly.environment.size(); ++i) {
     const EnvironmentObject& e = assembly.environment[i];
@@ -509,9 +533,42 @@ CollisionWorld::CollisionWorld(const Assembly& assembly, const WorldOptions& opt
     o.info.name = e.name;
     o.pose = e.pose;
     o.info.displayTriangles = e.mesh ? e.mesh->triangleCount() : 0;
-    if (options.environmentPrimitives && !simplifiedFor(o.id) && e.mesh && tryPrimitive(o, e, w.diagnostics)) continue;
-    setupMesh(o, e.mesh, nullptr);
+    Diagnostics& diags = slots.emplace_back();
+    if (options.environmentPrimitives && !simplifiedFor(o.id) && e.mesh && tryPrimitive(o, e, diags)) continue;
+    setupMesh(o, e.mesh, nullptr, diags);
   }
+  // The largest first, so that no core is left with a large one at the end.
+  std::vector<std::size_t> byWork(pending.size());
+  for (std::size_t k = 0; k < byWork.size(); ++k) byWork[k] = k;
+  std::sort(byWork.begin(), byWork.end(), [&](std::size_t x, std::size_t y) {
+    return pending[x].o->mesh->triangles.size() > pending[y].o->mesh->triangles.size();
+  });
+  vaw::detail::onCores(byWork.size(), [&](std::size_t k, bool) {
+    Pending& job = pending[byWork[k]];
+    buildMesh(*job.o, job.o->mesh, options.patches, job.found, job.cad);
+  });
+  for (Pending& job : pending) {
+    job.diags->insert(job.diags->end(), job.found.begin(), job.found.end());
+    if (job.o->bvh) {
+      job.o->info.proxy = ProxyKind::Mesh;
+      job.o->info.proxyReason = "full mesh";
+      builtMeshes().keep(*job.o, job.cad, options.patches, std::move(job.found));
+    }
+  }
+  for (const Copy& c : copies) {
+    const WorldObject& from = *pending[c.from].o;
+    if (from.bvh) {
+      BuiltMeshes::copyGeometry(*c.o, from);
+      c.o->info.proxyReason = "full mesh, shared with " + displayName(from);
+      continue;
+    }
+    // What the first could not build, this one reports for itself.
+    Diagnostics found;
+    buildMesh(*c.o, c.o->mesh, options.patches, found, c.cad);
+    c.diags->insert(c.diags->end(), found.begin(), found.end());
+    if (c.o->bvh) c.o->info.proxy = ProxyKind::Mesh;
+  }
+  for (Diagnostics& d : slots) w.diagnostics.insert(w.diagnostics.end(), d.begin(), d.end());
   w.makeBroadPhase();
   // Designed interferences, matched to the bore's cylinders once: the bore's span along the axis.
   for (const Constraint& c : assembly.constraints) {

@@ -2,17 +2,20 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <compare>
 #include <cstdint>
 #include <cstdio>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/collision/interference.hpp"
 #include "vaw/collision/time_of_impact.hpp"
+#include "../on_cores.hpp"
 #include "case_key.hpp"
 
 namespace vaw::eval {
@@ -92,7 +95,8 @@ struct Sweep {
   const collision::CollisionWorld& world;
   const std::vector<Eigen::Isometry3d>& home;
   collision::ToiOptions toi;
-  int runs = 0, evaluations = 0, undecided = 0, reused = 0;
+  // Sweeps may run on several threads at once (onCores): the counts and the cases decided are shared.
+  std::atomic<int> runs = 0, evaluations = 0, undecided = 0, reused = 0;
 
   struct Case {
     const void* moverShape;
@@ -102,39 +106,89 @@ struct Sweep {
     auto operator<=>(const Case&) const = default;
   };
   std::map<Case, std::optional<double>> decided;  // the block's distance (none: free); undecided not kept
+  std::map<Case, collision::MotionEvent> swept;    // by sweepAhead, not yet taken by block()
+  std::mutex deciding;                             // guards `decided` and `swept`
 
-  std::optional<Blocker> block(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double whole) {
+  // How far a sweep of `mover` past `obstacle` goes, and its case; none when it cannot block. Only as far as
+  // the obstacle can be met: until the trailing side passes its leading side. An obstacle no farther ahead
+  // than the tolerance is behind the mover: at most touching it (a nut under the plate it is screwed
+  // against, moved down), it cannot block, and the sweep of such a pair in contact was among the costliest
+  // there are (a third of a thousand-part product's order).
+  struct Planned {
+    double length;
+    std::optional<Case> key;
+  };
+  [[nodiscard]] std::optional<Planned> plan(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double whole) const {
     const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(mover));
-    // Only as far as the obstacle can be met: until the trailing side passes its leading side. An obstacle
-    // no farther ahead than the tolerance is behind the mover: at most touching it (a nut under the plate
-    // it is screwed against, moved down), it cannot block, and the sweep of such a pair in contact was
-    // among the costliest there are (a third of a thousand-part product's order).
     const double ahead = extentAlong(world.worldBounds(ObjectId::part(obstacle)), out).second - extentAlong(box, out).first;
     if (ahead <= toi.tolerance) return std::nullopt;
-    const double reach = ahead + 2.0 * toi.tolerance;
-    const double length = std::min(reach, whole);
-    const std::optional<Case> key = caseOf(mover, obstacle, out, alongAxis, length);
-    if (const auto it = key ? decided.find(*key) : decided.end(); it != decided.end()) {
-      ++reused;
-      if (!it->second) return std::nullopt;
-      return Blocker{obstacle, *it->second, false};
+    const double length = std::min(ahead + 2.0 * toi.tolerance, whole);
+    return Planned{length, caseOf(mover, obstacle, out, alongAxis, length)};
+  }
+
+  [[nodiscard]] collision::MotionEvent sweep(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double length) const {
+    return collision::firstBlockBy(world, ObjectId::part(mover), ObjectId::part(obstacle), collision::translation(home[mover], out, length),
+                                   alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
+  }
+
+  std::optional<Blocker> block(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double whole) {
+    const std::optional<Planned> planned = plan(mover, obstacle, out, alongAxis, whole);
+    if (!planned) return std::nullopt;
+    const std::optional<Case>& key = planned->key;
+    std::optional<collision::MotionEvent> ahead;
+    if (key) {
+      const std::lock_guard<std::mutex> lock(deciding);
+      if (const auto it = decided.find(*key); it != decided.end()) {
+        ++reused;
+        if (!it->second) return std::nullopt;
+        return Blocker{obstacle, *it->second, false};
+      }
+      if (const auto it = swept.find(*key); it != swept.end()) {
+        ahead = it->second;
+        swept.erase(it);
+      }
     }
-    const collision::MotionEvent ev =
-        collision::firstBlockBy(world, ObjectId::part(mover), ObjectId::part(obstacle), collision::translation(home[mover], out, length),
-                                alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
+    const collision::MotionEvent ev = ahead ? *ahead : sweep(mover, obstacle, out, alongAxis, planned->length);
     ++runs;
     evaluations += ev.evaluations;
     if (ev.undecided) {
       ++undecided;
       return Blocker{obstacle, ev.s, true};
     }
-    if (ev.kind != collision::EventKind::Blocked) {
-      if (key) decided.emplace(*key, std::nullopt);
-      return std::nullopt;
+    const std::optional<double> distance =
+        ev.kind != collision::EventKind::Blocked ? std::nullopt : std::optional<double>(ev.initiallyBlocked ? 0.0 : ev.s);
+    if (key) {
+      const std::lock_guard<std::mutex> lock(deciding);
+      decided.emplace(*key, distance);
     }
-    const double distance = ev.initiallyBlocked ? 0.0 : ev.s;
-    if (key) decided.emplace(*key, distance);
-    return Blocker{obstacle, distance, false};
+    if (!distance) return std::nullopt;
+    return Blocker{obstacle, *distance, false};
+  }
+
+  // Sweeps, on every core, the cases of the calls of block() that are to come in this order, each the way
+  // its first call would; those calls then take the results as if they had swept, so the answers and the
+  // counts are the same whatever the cores. `report` (the share done; false: stop) is called on the
+  // caller's thread.
+  struct Call {
+    PartId mover, obstacle;
+    Eigen::Vector3d out;
+    bool alongAxis;
+    double whole;
+  };
+  void sweepAhead(const std::vector<Call>& calls, const std::function<bool(double)>& report) {
+    std::vector<std::pair<const Call*, Planned>> todo;
+    std::set<Case> met;
+    for (const Call& c : calls)
+      if (auto planned = plan(c.mover, c.obstacle, c.out, c.alongAxis, c.whole);
+          planned && planned->key && !decided.count(*planned->key) && !swept.count(*planned->key) && met.insert(*planned->key).second)
+        todo.emplace_back(&c, std::move(*planned));
+    std::vector<collision::MotionEvent> events(todo.size());
+    vaw::detail::onCores(todo.size(), [&](std::size_t k, bool onCaller) {
+      if (onCaller && report && !report(static_cast<double>(k) / static_cast<double>(todo.size()))) throw LoadCancelled();
+      const Call& c = *todo[k].first;
+      events[k] = sweep(c.mover, c.obstacle, c.out, c.alongAxis, todo[k].second.length);
+    });
+    for (std::size_t k = 0; k < todo.size(); ++k) swept.emplace(*todo[k].second.key, events[k]);
   }
 
   // None for parts without a shape of their own (none in a loaded assembly): those are always swept.
@@ -196,11 +250,17 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   };
   // Per part and way: does the base block it (-1 not swept yet); swept only when it decides something.
   std::vector<std::vector<int>> baseBlocks(n);
+  std::mutex baseLock;  // the pairs are checked on several cores
   const auto blockedByBase = [&](PartId p, std::size_t k) {
-    if (baseBlocks[p].empty()) baseBlocks[p].assign(ways[p].size(), -1);
-    int& b = baseBlocks[p][k];
-    if (b < 0) b = sweep.block(p, base, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out)) ? 1 : 0;
-    return b == 1;
+    {
+      const std::lock_guard<std::mutex> lock(baseLock);
+      if (baseBlocks[p].empty()) baseBlocks[p].assign(ways[p].size(), -1);
+      if (baseBlocks[p][k] >= 0) return baseBlocks[p][k] == 1;
+    }
+    const bool b = sweep.block(p, base, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out)).has_value();
+    const std::lock_guard<std::mutex> lock(baseLock);
+    baseBlocks[p][k] = b ? 1 : 0;
+    return b;
   };
   // True when every way `p` has past the base is blocked by `q` in place (every way at all, when the base
   // blocks them all): p must come before q. The short sweeps against q come first; the base's only where
@@ -219,15 +279,23 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   // Only where the geometry says otherwise than the partner the constraints already name: the part that
   // needs its partner absent, while the partner does not need it absent, goes first.
   std::set<std::pair<PartId, PartId>> checked;
+  std::vector<std::pair<std::size_t, std::pair<PartId, PartId>>> pairs;  // with the constraint naming it
   for (std::size_t k = 0; k < assembly.constraints.size(); ++k) {
     const Constraint& c = assembly.constraints[k];
     const PartId partner = c.partner.value_or(base);
     if (partner == base || c.part >= n || partner >= n || c.part == partner) continue;
-    if (!checked.emplace(std::min(c.part, partner), std::max(c.part, partner)).second) continue;
-    if (progress && !progress(static_cast<double>(k) / static_cast<double>(assembly.constraints.size()), c.part, partner))
-      throw LoadCancelled();
-    if (needsAbsent(c.part, partner) && !needsAbsent(partner, c.part)) out.emplace_back(c.part, partner);
+    if (checked.emplace(std::min(c.part, partner), std::max(c.part, partner)).second) pairs.push_back({k, {c.part, partner}});
   }
+  std::vector<char> first(pairs.size(), 0);
+  vaw::detail::onCores(pairs.size(), [&](std::size_t i, bool onCaller) {
+    const auto [k, pq] = pairs[i];
+    if (onCaller && progress &&
+        !progress(static_cast<double>(k) / static_cast<double>(assembly.constraints.size()), pq.first, pq.second))
+      throw LoadCancelled();
+    first[i] = needsAbsent(pq.first, pq.second) && !needsAbsent(pq.second, pq.first);
+  });
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    if (first[i]) out.push_back(pairs[i].second);
   if (sweeps) *sweeps = sweep.runs;
   return out;
 }
@@ -326,28 +394,49 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
     const auto overlap = collision::overlapAtRest(world, assembly, p, q);
     return clashing[key] = overlap && overlap->kind == collision::Interference::Kind::Clash;
   };
+  // Out until the part's trailing side has passed the assembly's leading side.
+  const auto wayLength = [&](const Eigen::AlignedBox3d& box, const Eigen::Vector3d& out) {
+    return extentAlong(all, out).second - extentAlong(box, out).first + 2.0 * options.tolerance;
+  };
+  // The way out's box and the parts it meets there.
+  const auto metOnWay = [&](PartId p, const Eigen::Vector3d& out) {
+    const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(p));
+    const double length = wayLength(box, out);
+    Eigen::AlignedBox3d swept = box;
+    swept.extend(box.min() + length * out).extend(box.max() + length * out);
+    std::vector<PartId> met;
+    for (const ObjectId& o : world.near(swept, ObjectId::part(p)))
+      if (o.kind == ObjectId::Kind::Part && inSequence[o.index]) met.push_back(o.index);
+    return std::pair{length, met};
+  };
+  {
+    std::vector<Sweep::Call> calls;
+    for (PartId p = 0; p < n; ++p) {
+      if (p == base || !inSequence[p]) continue;
+      for (const Direction& d : directionsOf(assembly, p, home)) {
+        const auto [length, met] = metOnWay(p, d.out);
+        for (const PartId o : met) calls.push_back({p, o, d.out, d.alongAxis, length});
+      }
+    }
+    const std::string stage = "ways home: " + std::to_string(calls.size()) + " ways past the parts on them";
+    sweep.sweepAhead(calls, [&](double f) { return !progress || progress(0.9 * f, stage); });
+  }
   for (PartId p = 0; p < n; ++p) {
     if (p == base || !inSequence[p]) continue;
-    if (progress && !progress(static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
+    if (progress && !progress(0.9 + 0.1 * static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
       throw LoadCancelled();
     PartCheck check;
     check.part = p;
     check.directions = directionsOf(assembly, p, home);
-    const ObjectId mover = ObjectId::part(p);
-    const Eigen::AlignedBox3d box = world.worldBounds(mover);
     for (Direction& d : check.directions) {
-      // Out until the part's trailing side has passed the assembly's leading side.
-      const double length = extentAlong(all, d.out).second - extentAlong(box, d.out).first + 2.0 * options.tolerance;
+      const auto [length, met] = metOnWay(p, d.out);
       d.length = length;
-      Eigen::AlignedBox3d swept = box;
-      swept.extend(box.min() + length * d.out).extend(box.max() + length * d.out);
       std::string through;
-      for (const ObjectId& o : world.near(swept, mover)) {
-        if (o.kind != ObjectId::Kind::Part || !inSequence[o.index]) continue;
-        const auto b = sweep.block(p, o.index, d.out, d.alongAxis, length);
+      for (const PartId o : met) {
+        const auto b = sweep.block(p, o, d.out, d.alongAxis, length);
         if (!b) continue;
-        if (options.throughClashes && d.constraint && !b->undecided && b->distance <= 0.0 && clash(p, o.index)) {
-          through += (through.empty() ? "" : ", ") + assembly.parts[o.index].name;
+        if (options.throughClashes && d.constraint && !b->undecided && b->distance <= 0.0 && clash(p, o)) {
+          through += (through.empty() ? "" : ", ") + assembly.parts[o].name;
           continue;
         }
         d.blockers.push_back(*b);
@@ -422,7 +511,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
         for (std::size_t i = 0; i < group.size() && ok; ++i) {
           const PartId m = group[i];
           const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(m));
-          const double length = extentAlong(all, out).second - extentAlong(box, out).first + 2.0 * options.tolerance;
+          const double length = wayLength(box, out);
           Eigen::AlignedBox3d swept = box;
           swept.extend(box.min() + length * out).extend(box.max() + length * out);
           const auto join = [&](PartId o) {
