@@ -101,6 +101,52 @@ TEST(BadGeometry, AMeshTakenFromAnEarlierWorldIsReportedAsItsOwn) {
   EXPECT_EQ(third.info(ObjectId::part(1)).triangles, 12u);
 }
 
+// The meshes of a world are built side by side on the machine's cores: what each reports still comes in the
+// parts' order, and parts with equal meshes still share one build.
+TEST(BadGeometry, MeshesBuiltSideBySideReportInThePartsOrder) {
+  ctest::SceneBuilder b;
+  b.part("floor", primitives::box({1.0, 1.0, 0.1}), at(0, 0, -0.05));
+  const int n = 12;
+  for (int i = 0; i < n; ++i) {
+    // Each a mesh of its own size (so nothing is shared), every third missing a triangle; the largest last,
+    // so that the builds finish out of order.
+    const double side = 0.01 + 0.001 * i;
+    TriMesh m = i == n - 1 ? primitives::cylinder(0.02, 0.05, 4000) : primitives::box({side, side, side});
+    if (i % 3 == 0) m.triangles.pop_back();
+    b.part("p" + std::to_string(i), primitives::box({side, side, side}), at(-0.4 + 0.07 * i, 0, side / 2));
+    b.a.parts.back().mesh = std::make_shared<const TriMesh>(std::move(m));
+  }
+  // Two more with one mesh between them: built once.
+  const auto shared = std::make_shared<const TriMesh>(primitives::box({0.031, 0.031, 0.031}));
+  b.part("twin-a", primitives::box({0.031, 0.031, 0.031}), at(0, 0.3, 0.0155));
+  b.a.parts.back().mesh = shared;
+  b.part("twin-b", primitives::box({0.031, 0.031, 0.031}), at(0.1, 0.3, 0.0155));
+  b.a.parts.back().mesh = std::make_shared<const TriMesh>(*shared);
+  b.base(0);
+  const CollisionWorld w(b.a);
+  std::vector<std::string> open;
+  for (const Diagnostic& d : w.diagnostics())
+    if (d.field == "collision.open-mesh") open.push_back(d.file);
+  std::vector<std::string> expected;
+  for (int i = 0; i < n; i += 3) expected.push_back("part \"p" + std::to_string(i) + "\"");
+  EXPECT_EQ(open, expected);
+  for (int i = 0; i < n; ++i) {
+    const auto id = ObjectId::part(static_cast<PartId>(i + 1));
+    EXPECT_EQ(w.info(id).proxy, ProxyKind::Mesh) << i;
+    EXPECT_EQ(w.info(id).triangles, b.a.parts[static_cast<std::size_t>(i + 1)].mesh->triangles.size()) << i;
+  }
+  EXPECT_EQ(w.info(ObjectId::part(n + 2)).proxyReason, "full mesh, shared with part \"twin-a\"");
+  // Every part collides where it stands: a part sunk 1 mm into the floor meets it.
+  QueryOptions o;
+  o.dropTouching = true;
+  for (int i = 0; i < n; i += 4) {
+    const auto id = ObjectId::part(static_cast<PartId>(i + 1));
+    Eigen::Isometry3d sunk = w.pose(id);
+    sunk.translation().z() -= 0.001;
+    EXPECT_FALSE(w.query(id, sunk, ObjectId::part(0), o).contacts.empty()) << i;
+  }
+}
+
 TEST(BadGeometry, OpenMeshIsWarnedAndStillCollides) {
   TriMesh m = primitives::box({0.02, 0.02, 0.02});
   m.triangles.pop_back();  // one triangle of the top face missing

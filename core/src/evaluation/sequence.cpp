@@ -431,22 +431,46 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
     for (Direction& d : check.directions) {
       const auto [length, met] = metOnWay(p, d.out);
       d.length = length;
+      for (const PartId o : met)
+        if (const auto b = sweep.block(p, o, d.out, d.alongAxis, length)) d.blockers.push_back(*b);
+    }
+    plan.checks.push_back(std::move(check));
+  }
+  // The pairs blocked where they stand along a constraint's way are asked whether they clash, on every core;
+  // a way goes through its clashes.
+  const auto throughClash = [&](const Direction& d, const Blocker& b) {
+    return options.throughClashes && d.constraint && !b.undecided && b.distance <= 0.0;
+  };
+  {
+    std::set<std::pair<PartId, PartId>> asked;
+    for (const PartCheck& c : plan.checks)
+      for (const Direction& d : c.directions)
+        for (const Blocker& b : d.blockers)
+          if (throughClash(d, b)) asked.insert(std::minmax(c.part, b.by));
+    const std::vector<std::pair<PartId, PartId>> pairs(asked.begin(), asked.end());
+    std::vector<char> clashes(pairs.size(), 0);
+    vaw::detail::onCores(pairs.size(), [&](std::size_t k, bool) {
+      const auto overlap = collision::overlapAtRest(world, assembly, pairs[k].first, pairs[k].second);
+      clashes[k] = overlap && overlap->kind == collision::Interference::Kind::Clash;
+    });
+    for (std::size_t k = 0; k < pairs.size(); ++k) clashing[pairs[k]] = clashes[k] != 0;
+  }
+  for (PartCheck& c : plan.checks)
+    for (Direction& d : c.directions) {
       std::string through;
-      for (const PartId o : met) {
-        const auto b = sweep.block(p, o, d.out, d.alongAxis, length);
-        if (!b) continue;
-        if (options.throughClashes && d.constraint && !b->undecided && b->distance <= 0.0 && clash(p, o)) {
-          through += (through.empty() ? "" : ", ") + assembly.parts[o].name;
+      std::vector<Blocker> kept;
+      for (const Blocker& b : d.blockers) {
+        if (throughClash(d, b) && clash(c.part, b.by)) {
+          through += (through.empty() ? "" : ", ") + assembly.parts[b.by].name;
           continue;
         }
-        d.blockers.push_back(*b);
+        kept.push_back(b);
       }
+      d.blockers = std::move(kept);
       if (!through.empty()) d.from += " (through its clash with " + through + ")";
       std::sort(d.blockers.begin(), d.blockers.end(),
                 [](const Blocker& x, const Blocker& y) { return x.distance != y.distance ? x.distance < y.distance : x.by < y.by; });
     }
-    plan.checks.push_back(std::move(check));
-  }
   plan.sweeps = sweep.runs;
   plan.reused = sweep.reused;
   plan.evaluations = sweep.evaluations;
