@@ -1,4 +1,5 @@
 #include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/background.hpp"
 
 #include <QFile>
 #include <QFileInfo>
@@ -234,6 +235,7 @@ AssemblyController::Outcome AssemblyController::runLoad(const QString& path, con
     }
   };
   try {
+    const BackgroundTask task("import");
     std::filesystem::path file = toPath(path);
     out.sceneReference = path;
     if (path.endsWith(QStringLiteral(".vaw-session.json"))) {
@@ -260,7 +262,7 @@ AssemblyController::Outcome AssemblyController::runLoad(const QString& path, con
     fail(std::move(f));
   } catch (const std::exception& e) {
     LoadFailure f;
-    f.message = tr("%1: %2").arg(path, QString::fromUtf8(e.what()));
+    f.message = tr("%1: %2").arg(path, failureText(e));
     fail(std::move(f));
   } catch (...) {
     LoadFailure f;

@@ -23,6 +23,7 @@
 
 #include "vaw/constraint_recognition.hpp"
 #include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/background.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/scene_tree_model.hpp"
 #include "vaw/ui/simulation_controller.hpp"
@@ -419,12 +420,18 @@ void ConstraintsDock::showNearMisses() {
       NearMisses out;
       out.of = key;
       try {
+        const BackgroundTask task("near misses");
         out.misses = vaw::nearMisses(scene->assembly());
-      } catch (const std::exception&) {
-        // Only a hint beside the constraints: without it the panel says nothing about near misses.
+      } catch (const std::exception& e) {
+        // Only a hint beside the constraints: the panel says why there is none, the table stays.
+        out.error = failureText(e);
       }
       return out;
     }));
+    return;
+  }
+  if (!nearFound_->error.isEmpty()) {
+    nearTitle_->setText(tr("Near misses could not be looked for: %1").arg(nearFound_->error));
     return;
   }
   for (const vaw::NearMiss& m : nearFound_->misses) {

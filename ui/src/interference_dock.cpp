@@ -11,6 +11,7 @@
 
 #include "format.hpp"
 #include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/background.hpp"
 
 namespace vaw::ui {
 
@@ -143,12 +144,13 @@ void InterferenceDock::assemblyLoaded() {
     Outcome out;
     out.scene = scene;
     try {
+      const BackgroundTask task("interferences");
       const vaw::Assembly& a = scene->assembly();
       out.found = vaw::collision::interferences(a, vaw::collision::assembledPoses(a), [cancel](double, std::size_t, std::size_t) { return !cancel->load(); });
     } catch (const vaw::LoadCancelled&) {
       out.cancelled = true;
     } catch (const std::exception& e) {  // an allocation failing on a huge product: said, the window lives on
-      out.error = QString::fromUtf8(e.what());
+      out.error = failureText(e);
     }
     return out;
   }));

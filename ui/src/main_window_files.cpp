@@ -32,6 +32,7 @@
 #include "vaw/sim/scene_file.hpp"
 #include "vaw/sim/session.hpp"
 #include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/background.hpp"
 #include "vaw/ui/docks.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/sequence_dock.hpp"
@@ -405,6 +406,7 @@ void MainWindow::writeReport(const QString& dir) {
     ReportOutcome out;
     out.dir = dir;
     try {
+      const BackgroundTask task("report");
       std::vector<vaw::eval::SessionStats> sessions;
       // The session replayed on the scene it was recorded on: a trial's scale is not the scene's.
       if (recordedOn) sessions.push_back(vaw::eval::sessionStats(recordedOn, *session, label, stage(0.0, replayShare)));
@@ -416,7 +418,7 @@ void MainWindow::writeReport(const QString& dir) {
     } catch (const vaw::LoadCancelled&) {
       out.cancelled = true;
     } catch (const std::exception& e) {  // vaw::OutputError naming the file; a failed replay too
-      out.error = QString::fromUtf8(e.what());
+      out.error = failureText(e);
     }
     return out;
   }));

@@ -29,6 +29,7 @@
 #include "vaw/mesh_export.hpp"
 #include "vaw/sim/recorder.hpp"
 #include "vaw/sim/scene.hpp"
+#include "vaw/ui/background.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
 #include "vaw/view/frame.hpp"
@@ -253,6 +254,7 @@ void PathDock::sweep() {
     out.part = part;
     out.generation = generation;
     try {
+      const BackgroundTask task("sweep");
       vaw::sim::SweptPathAndClearance both = vaw::sim::sweptVolumeAndClearance(scene, session, part, so, co);
       out.swept = std::move(both.swept);
       out.clearance = std::move(both.clearance);
@@ -401,10 +403,11 @@ void PathDock::exportVolume(const QString& file) {
   // The worker takes its own copy of the mesh: a new sweep may replace the result meanwhile.
   exportWatcher_.setFuture(QtConcurrent::run([mesh = result_->swept.mesh, units = a.units, partName, target, step, limits, progress]() -> QString {
     try {
+      const BackgroundTask task("export");
       if (step != nullptr) step->write(mesh, partName + " swept", units, target, limits, progress);
       else vaw::writeFileAtomically(target, vaw::binaryStl(mesh, 1.0 / vaw::toMetres(units), "vaw swept volume of " + partName + ", " + std::string(vaw::name(units))));
     } catch (const std::exception& e) {
-      return QString::fromStdString(e.what());
+      return failureText(e);
     }
     return {};
   }));

@@ -19,6 +19,7 @@
 
 #include "vaw/importer.hpp"
 #include "vaw/ui/assembly_controller.hpp"
+#include "vaw/ui/background.hpp"
 
 namespace vaw::ui {
 
@@ -300,6 +301,7 @@ void SequenceDock::findOrder() {
     Outcome out;
     out.scene = scene;
     try {
+      const BackgroundTask task("order");
       // The ways home's walk is the search's last fifth or so, on the products measured (docs/evaluation.md).
       out.plan = vaw::eval::planSequence(scene->assembly(), {}, [&](double f, const std::string& stage) { return progress(0.8 * f, stage); });
       out.ways = vaw::eval::wayClearances(scene->assembly(), *out.plan, options,
@@ -307,7 +309,7 @@ void SequenceDock::findOrder() {
     } catch (const vaw::LoadCancelled&) {
       out.cancelled = true;
     } catch (const std::exception& e) {  // vaw::InputError: an assembly without a base has no order
-      out.error = QString::fromUtf8(e.what());
+      out.error = failureText(e);
     }
     return out;
   }));

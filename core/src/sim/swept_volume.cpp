@@ -19,6 +19,7 @@
 #include "vaw/sim/carried_path.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/world.hpp"
+#include "../on_cores.hpp"
 
 namespace vaw::sim {
 
@@ -434,31 +435,27 @@ SweptVolume sweep(const TriMesh& mesh, const std::vector<std::vector<Eigen::Isom
   }
   Bits shell(span.cast<int>());
 
-  // Each thread takes a stretch of the path (apart, so they seldom write the same words); bits are set
-  // with atomic ORs, so no merge is needed.
-  const std::size_t threads = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 8);
-  {
-    std::vector<std::jthread> pool;
-    for (std::size_t t = 0; t < threads; ++t)
-      pool.emplace_back([&, t] {
-        std::vector<Eigen::Vector3d> g0(mesh.vertices.size()), g1(mesh.vertices.size());
-        Eigen::Vector3d corners[6];
-        for (std::size_t k = t * moves.size() / threads; k < (t + 1) * moves.size() / threads; ++k) {
-          const Move& m = moves[k];
-          for (std::size_t i = 0; i < g0.size(); ++i) {
-            g0[i] = (m.from * mesh.vertices[i] - origin) / voxel;
-            g1[i] = (m.to * mesh.vertices[i] - origin) / voxel;
-          }
-          for (const Eigen::Vector3i& tri : mesh.triangles) {
-            for (int c = 0; c < 3; ++c) {
-              corners[c] = g0[tri[c]];
-              corners[c + 3] = g1[tri[c]];
-            }
-            rasterise(shell, corners, m.stray);
-          }
+  // Each core takes a stretch of the path (apart, so they seldom write the same words); bits are set
+  // with atomic ORs, so no merge is needed. A failure on any (an allocation) ends the sweep with it.
+  const std::size_t stretches = std::clamp<std::size_t>(std::thread::hardware_concurrency(), 1, 8);
+  vaw::detail::onCores(stretches, [&](std::size_t t, bool) {
+    std::vector<Eigen::Vector3d> g0(mesh.vertices.size()), g1(mesh.vertices.size());
+    Eigen::Vector3d corners[6];
+    for (std::size_t k = t * moves.size() / stretches; k < (t + 1) * moves.size() / stretches; ++k) {
+      const Move& m = moves[k];
+      for (std::size_t i = 0; i < g0.size(); ++i) {
+        g0[i] = (m.from * mesh.vertices[i] - origin) / voxel;
+        g1[i] = (m.to * mesh.vertices[i] - origin) / voxel;
+      }
+      for (const Eigen::Vector3i& tri : mesh.triangles) {
+        for (int c = 0; c < 3; ++c) {
+          corners[c] = g0[tri[c]];
+          corners[c + 3] = g1[tri[c]];
         }
-      });
-  }
+        rasterise(shell, corners, m.stray);
+      }
+    }
+  });
   // Occupied: all that is not outside (the shells and what they enclose), the padding past each row's
   // end left empty.
   Bits occ = outside(shell);

@@ -107,6 +107,7 @@ class ConstraintsDock : public QDockWidget {
   [[nodiscard]] QTableView* nearMissView() const { return nearView_; }
   [[nodiscard]] QStandardItemModel* nearMissModel() const { return near_; }
   [[nodiscard]] bool findingNearMisses() const { return nearWatcher_.isRunning(); }
+  [[nodiscard]] QLabel* nearMissTitle() const { return nearTitle_; }
 
   // Gives the scene tree a context menu with "Make this the base" on a part.
   void attachBaseMenu(SceneDock* scene);
@@ -158,6 +159,7 @@ class ConstraintsDock : public QDockWidget {
   struct NearMisses {
     QString of;  // nearMissKey of the assembly they were found in
     std::vector<vaw::NearMiss> misses;
+    QString error;  // why none could be looked for
   };
   // What near misses depend on (the file's geometry, the base, the parts), not the constraints: an edit in
   // the table does not look for them again.
