@@ -6,7 +6,6 @@
 #include <numbers>
 
 #include "step_result.hpp"
-#include "vaw/cad_faces.hpp"
 
 namespace vaw::step {
 namespace {
@@ -133,8 +132,7 @@ std::shared_ptr<const CadSolid> solidFrom(const json& j) {
       malformed("a cone's half angle is not between 0 and 90 degrees");
     s->faces.push_back(f);
   }
-  // The reader writes Open CASCADE's faces as they are; a cylinder the exporter split is one surface here.
-  mergeSplitFaces(*s);
+  // The reader writes Open CASCADE's faces as they are: the core makes a split cylinder one surface.
   return s;
 }
 

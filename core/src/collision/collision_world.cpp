@@ -2,7 +2,7 @@
 // broad phase, instances, poses, bounds and the objects near a box.
 #include "collision_world_impl.hpp"
 
-#include "../on_cores.hpp"
+#include "../base/on_cores.hpp"
 
 #include <deque>
 #include <mutex>

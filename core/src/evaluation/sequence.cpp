@@ -15,7 +15,7 @@
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/collision/interference.hpp"
 #include "vaw/collision/time_of_impact.hpp"
-#include "../on_cores.hpp"
+#include "../base/on_cores.hpp"
 #include "case_key.hpp"
 
 namespace vaw::eval {

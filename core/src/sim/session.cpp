@@ -6,7 +6,7 @@
 #include <limits>
 #include <numbers>
 
-#include "../json_node.hpp"
+#include "../base/json_node.hpp"
 #include "vaw/hash.hpp"
 #include "vaw/atomic_file.hpp"
 #include "vaw/dynamics/hinge.hpp"

@@ -19,7 +19,7 @@
 #include "vaw/sim/carried_path.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/world.hpp"
-#include "../on_cores.hpp"
+#include "../base/on_cores.hpp"
 
 namespace vaw::sim {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <utility>
 
-#include "../json_node.hpp"
+#include "../base/json_node.hpp"
 #include "design_json.hpp"
 
 namespace vaw::trials {

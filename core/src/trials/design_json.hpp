@@ -1,6 +1,6 @@
 #pragma once
 // The design as JSON, for the results file's header, which carries the design it was run with.
-#include "../json_node.hpp"
+#include "../base/json_node.hpp"
 #include "vaw/trials/design.hpp"
 
 namespace vaw::trials::detail_json {

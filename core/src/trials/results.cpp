@@ -5,7 +5,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "../json_node.hpp"
+#include "../base/json_node.hpp"
 #include "design_json.hpp"
 #include "results_lines.hpp"
 

@@ -10,7 +10,7 @@
 #include <system_error>
 #include <utility>
 
-#include "../json_node.hpp"
+#include "../base/json_node.hpp"
 #include "design_json.hpp"
 #include "results_lines.hpp"
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "../json_node.hpp"
+#include "../base/json_node.hpp"
 #include "numerics.hpp"
 #include "random.hpp"
 

@@ -13,7 +13,7 @@
 #include <set>
 #include <tuple>
 
-#include "collision/geometry2d.hpp"
+#include "../collision/geometry2d.hpp"
 #include "vaw/collision/interference.hpp"
 #include "vaw/fits.hpp"
 

@@ -8,7 +8,7 @@
 #include <memory>
 #include <optional>
 
-#include "load_detail.hpp"
+#include "../input/load_detail.hpp"
 #include "vaw/cad_assembly.hpp"
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/constraint_recognition.hpp"

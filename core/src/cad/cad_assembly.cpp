@@ -22,10 +22,10 @@
 #include <sstream>
 #include <utility>
 
-#include "collision/geometry2d.hpp"
+#include "../collision/geometry2d.hpp"
 #include "vaw/collision/surface_patches.hpp"
 #include "cad_units.hpp"
-#include "load_detail.hpp"
+#include "../input/load_detail.hpp"
 #include "vaw/cad_faces.hpp"
 #include "vaw/categories.hpp"
 #include "vaw/hash.hpp"
@@ -610,8 +610,8 @@ std::shared_ptr<const CadSolid> cadSolidFromMesh(const TriMesh& mesh, const std:
   for (std::size_t t = 0; t < taken.size(); ++t)
     if (!taken[t]) rest.push_back(static_cast<int>(t));
   addFace(CadFace{}, rest);
-  // A cylinder or plane interrupted (by a groove, a slot, a split in the file) is found as several patches.
-  mergeSplitFaces(*solid);
+  // A cylinder or plane interrupted (by a groove, a slot) is found as several patches: assemblyFromCad makes
+  // them one, as it does a CAD file's split faces.
   return solid;
 }
 
@@ -645,6 +645,29 @@ std::string fileContentHashFnv(const std::filesystem::path& file) {
   return "fnv1a64:" + hashText(h);
 }
 
+namespace {
+
+// Each distinct solid under `root` replaced by a copy with its split faces merged (mergeSplitFaces); the
+// instances of one solid keep sharing one copy.
+void mergeEverySolidsFaces(ImportedNode& root) {
+  std::map<const CadSolid*, std::shared_ptr<const CadSolid>> merged;
+  const std::function<void(ImportedNode&)> visit = [&](ImportedNode& n) {
+    if (n.solid) {
+      auto [it, fresh] = merged.try_emplace(n.solid.get());
+      if (fresh) {
+        auto copy = std::make_shared<CadSolid>(*n.solid);
+        mergeSplitFaces(*copy);
+        it->second = std::move(copy);
+      }
+      n.solid = it->second;
+    }
+    for (ImportedNode& c : n.children) visit(c);
+  };
+  visit(root);
+}
+
+}  // namespace
+
 Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress,
                          MassSource massSource) {
   const std::string fileStr = file.string();
@@ -661,6 +684,9 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
                           *imported.declaredUnit + " (converted to metres)"});
 
   StageClock clock(options.timings);
+  // One face per surface, whatever importer read the file: a cylinder an exporter split at its seams (or a
+  // mesh's patches interrupted by a groove) is one here, before units join solids and recognition reads them.
+  mergeEverySolidsFaces(imported.root);
   // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
   detail::SolidMeshes meshes(fileStr);
   const std::map<std::string, std::string> units =

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "json_node.hpp"
+#include "../base/json_node.hpp"
 #include "vaw/limits.hpp"
 #include "vaw/units.hpp"
 

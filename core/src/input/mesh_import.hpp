@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "json_node.hpp"
+#include "../base/json_node.hpp"
 #include "vaw/assembly.hpp"
 #include "vaw/importer.hpp"
 #include "vaw/mesh.hpp"

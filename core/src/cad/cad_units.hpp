@@ -6,7 +6,7 @@
 #include <set>
 #include <string>
 
-#include "load_detail.hpp"
+#include "../input/load_detail.hpp"
 #include "vaw/importer.hpp"
 
 namespace vaw::detail {

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "json_node.hpp"
+#include "../base/json_node.hpp"
 #include "load_detail.hpp"
 #include "mesh_import.hpp"
 #include "vaw/cad_assembly.hpp"
