@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "evaluate_command.hpp"
+#include "export_command.hpp"
 #include "clearance_command.hpp"
 #include "run_command.hpp"
 #include "trials_command.hpp"
@@ -414,6 +415,19 @@ int dispatch(int argc, char** argv) {
       ->check(CLI::Range(64.0, 1e7));
   swCmd->callback([&] { command = [&] { return vaw::app::sweep(sw); }; });
 
+  vaw::app::ExportArgs ex;
+  CLI::App* exCmd = app.add_subcommand(
+      "export", "The scene and how its parts moved as one glTF 2.0 binary (docs/sharing.md): a recorded session replayed, "
+                "or with --order a scene's planned order, each part flying home in its turn; a scene alone at rest.");
+  exCmd->add_option("SESSION_OR_SCENE", ex.input, "Recorded session (.vaw-session.json), or a scene, STEP or mesh file")->required();
+  exCmd->add_option("--out", ex.out, "The .glb file to write")->type_name("FILE")->required();
+  exCmd->add_flag("--order", ex.order, "Play the planned order (a scene, STEP or mesh file)");
+  exCmd->add_option("--fps", ex.rate, "Samples a second (default 30)")->check(CLI::Range(1.0, 1000.0));
+  exCmd->add_option("--step-seconds", ex.stepSeconds, "Seconds each step of the order takes (default 1)")->check(CLI::Range(0.05, 60.0));
+  exCmd->add_option("--tolerance", ex.toleranceMm, "A key is left out where its neighbours come within this, mm (default 0.1; 0 keeps all)")
+      ->check(CLI::Range(0.0, 100.0));
+  exCmd->callback([&] { command = [&] { return vaw::app::exportGltf(ex); }; });
+
   vaw::app::EvaluateArgs ev;
   CLI::App* evCmd = app.add_subcommand(
       "evaluate", "Which order puts an assembly together (a scene, a STEP file or a mesh file): every part's ways home "
@@ -504,7 +518,7 @@ int dispatch(int argc, char** argv) {
     }
     std::string problem = e.what();
     if (where == "vaw-sim" && argc > 1 && argv[1][0] != '-')
-      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, evaluate, work-precision, trials)";
+      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, clearance, sweep, evaluate, export, work-precision, trials)";
     std::fprintf(stderr, "%s: %s\nRun %s --help for the usage.\n", where.c_str(), problem.c_str(), where.c_str());
     return 2;
   }
