@@ -28,7 +28,7 @@ int exportGltf(const ExportArgs& args) {
   std::shared_ptr<const sim::Scene> scene;
   report::Motion motion;
   const std::string& in = args.input;
-  if (in.size() > 17 && in.ends_with(".vaw-session.json")) {
+  if (in.ends_with(".vaw-session.json")) {
     if (args.order) fail(in, "--order", "a scene, STEP or mesh file (a session plays what was recorded)", "a session");
     const sim::Session session = sim::loadSession(in);
     // The scene as recorded: as given, else beside the session file.

@@ -398,43 +398,43 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
   const auto wayLength = [&](const Eigen::AlignedBox3d& box, const Eigen::Vector3d& out) {
     return extentAlong(all, out).second - extentAlong(box, out).first + 2.0 * options.tolerance;
   };
-  // The way out's box and the parts it meets there.
-  const auto metOnWay = [&](PartId p, const Eigen::Vector3d& out) {
-    const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(p));
-    const double length = wayLength(box, out);
-    Eigen::AlignedBox3d swept = box;
-    swept.extend(box.min() + length * out).extend(box.max() + length * out);
-    std::vector<PartId> met;
-    for (const ObjectId& o : world.near(swept, ObjectId::part(p)))
-      if (o.kind == ObjectId::Kind::Part && inSequence[o.index]) met.push_back(o.index);
-    return std::pair{length, met};
-  };
-  {
-    std::vector<Sweep::Call> calls;
-    for (PartId p = 0; p < n; ++p) {
-      if (p == base || !inSequence[p]) continue;
-      for (const Direction& d : directionsOf(assembly, p, home)) {
-        const auto [length, met] = metOnWay(p, d.out);
-        for (const PartId o : met) calls.push_back({p, o, d.out, d.alongAxis, length});
-      }
-    }
-    const std::string stage = "ways home: " + std::to_string(calls.size()) + " ways past the parts on them";
-    sweep.sweepAhead(calls, [&](double f) { return !progress || progress(0.9 * f, stage); });
-  }
+  // Every part's ways, each with the parts whose boxes its way out reaches (until its trailing side has
+  // passed the assembly's leading side); those pairs swept ahead on every core, then each way's blockers
+  // read in order.
+  std::vector<std::vector<std::vector<PartId>>> met;  // per check, per way
+  std::vector<Sweep::Call> calls;
   for (PartId p = 0; p < n; ++p) {
     if (p == base || !inSequence[p]) continue;
-    if (progress && !progress(0.9 + 0.1 * static_cast<double>(p) / static_cast<double>(n), "ways home: " + assembly.parts[p].name))
-      throw LoadCancelled();
     PartCheck check;
     check.part = p;
     check.directions = directionsOf(assembly, p, home);
+    const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(p));
+    auto& onWays = met.emplace_back();
     for (Direction& d : check.directions) {
-      const auto [length, met] = metOnWay(p, d.out);
-      d.length = length;
-      for (const PartId o : met)
-        if (const auto b = sweep.block(p, o, d.out, d.alongAxis, length)) d.blockers.push_back(*b);
+      d.length = wayLength(box, d.out);
+      Eigen::AlignedBox3d swept = box;
+      swept.extend(box.min() + d.length * d.out).extend(box.max() + d.length * d.out);
+      auto& on = onWays.emplace_back();
+      for (const ObjectId& o : world.near(swept, ObjectId::part(p)))
+        if (o.kind == ObjectId::Kind::Part && inSequence[o.index]) {
+          on.push_back(o.index);
+          calls.push_back({p, o.index, d.out, d.alongAxis, d.length});
+        }
     }
     plan.checks.push_back(std::move(check));
+  }
+  const std::string stage = "ways home: " + std::to_string(calls.size()) + " ways past the parts on them";
+  sweep.sweepAhead(calls, [&](double f) { return !progress || progress(0.9 * f, stage); });
+  for (std::size_t i = 0; i < plan.checks.size(); ++i) {
+    PartCheck& check = plan.checks[i];
+    if (progress && !progress(0.9 + 0.1 * static_cast<double>(i) / static_cast<double>(plan.checks.size()),
+                              "ways home: " + assembly.parts[check.part].name))
+      throw LoadCancelled();
+    for (std::size_t k = 0; k < check.directions.size(); ++k) {
+      Direction& d = check.directions[k];
+      for (const PartId o : met[i][k])
+        if (const auto b = sweep.block(check.part, o, d.out, d.alongAxis, d.length)) d.blockers.push_back(*b);
+    }
   }
   // The pairs blocked where they stand along a constraint's way are asked whether they clash, on every core;
   // a way goes through its clashes.
