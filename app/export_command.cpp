@@ -50,7 +50,7 @@ int exportGltf(const ExportArgs& args) {
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(args.out, ec);
   char what[96] = "at rest";
-  if (!motion.times.empty()) std::snprintf(what, sizeof what, "%s of %.1f s", motion.name.c_str(), motion.times.back());
+  if (!motion.parts.empty()) std::snprintf(what, sizeof what, "%s of %.1f s", motion.name.c_str(), motion.duration);
   std::printf("wrote %s (%zu parts, %s, %.1f kB)\n", args.out.c_str(), scene->assembly().parts.size(), what,
               ec ? 0.0 : static_cast<double>(bytes) / 1e3);
   return 0;

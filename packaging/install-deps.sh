@@ -31,8 +31,8 @@ packages=(
   # headless display for the Qt3D viewport: Xvfb with Mesa's software OpenGL (llvmpipe); EGL's headers for
   # the headset renderer's benchmark (no X server)
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl-dev
-  # the evaluation report is opened in a real browser by its test (headless)
-  chromium
+  # the evaluation report is opened in a real browser by its test (headless); three.js draws its 3D view
+  chromium libjs-three
   # packaging checks
   desktop-file-utils appstream
   # regenerating docs/states.svg from docs/states.dot

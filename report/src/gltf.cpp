@@ -108,21 +108,43 @@ std::vector<std::size_t> thinned(const std::vector<Eigen::Vector3d>& at, const s
 
 }  // namespace
 
+namespace {
+
+// Appends (t, pose) to a track, leaving out the samples in the middle of a stretch at rest: a stretch keeps
+// its first and last key, so that the interpolation between keys is the rest itself.
+class TrackWriter {
+ public:
+  explicit TrackWriter(Track& track) : track_(track) {}
+  void add(double t, const Eigen::Isometry3d& pose) {
+    const std::size_t n = track_.times.size();
+    if (n >= 2 && same(track_.poses[n - 1], pose) && same(track_.poses[n - 2], pose)) {
+      track_.times[n - 1] = t;  // the rest goes on: its last key moves on with it
+      return;
+    }
+    track_.times.push_back(t);
+    track_.poses.push_back(pose);
+  }
+
+ private:
+  static bool same(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) { return a.matrix() == b.matrix(); }
+  Track& track_;
+};
+
+}  // namespace
+
 Motion sessionMotion(const std::shared_ptr<const sim::Scene>& scene, const sim::Session& session, double rate) {
   Motion m;
   m.name = "session";
-  double next = 0.0;
-  std::vector<Eigen::Isometry3d> last;
-  double lastTime = 0.0;
+  m.parts.resize(scene->assembly().parts.size());
+  std::vector<TrackWriter> writers(m.parts.begin(), m.parts.end());
+  double next = 0.0, last = -1.0;
   const auto sample = [&](double t, const sim::World& w) {
-    std::vector<Eigen::Isometry3d> poses;
-    poses.reserve(w.parts().size());
-    for (const sim::PartRuntime& p : w.parts()) poses.push_back(p.pose);
-    m.times.push_back(t);
-    m.poses.push_back(std::move(poses));
+    for (const sim::PartRuntime& p : w.parts()) writers[p.id].add(t, p.pose);
+    last = t;
   };
+  double now = 0.0;
   const sim::World end = sim::replay(scene, session, [&](const sim::World& w) {
-    if (m.times.empty()) {
+    if (last < 0.0) {
       sample(0.0, w);
       next = 1.0 / rate;
     }
@@ -130,49 +152,62 @@ Motion sessionMotion(const std::shared_ptr<const sim::Scene>& scene, const sim::
       sample(w.time(), w);
       next += 1.0 / rate;
     }
-    lastTime = w.time();
+    now = w.time();
   });
-  if (m.times.empty() || lastTime > m.times.back() + 1e-9) sample(lastTime, end);
+  if (last < 0.0 || now > last + 1e-9) sample(now, end);
+  m.duration = std::max(0.0, last);
   return m;
+}
+
+Eigen::Vector3d orderApproach(const Assembly& assembly, const eval::SequencePlan& plan, PartId p) {
+  if ((plan.base && p == *plan.base) || std::find(plan.order.begin(), plan.order.end(), p) == plan.order.end())
+    return Eigen::Vector3d::Zero();
+  Eigen::Vector3d out = Eigen::Vector3d::UnitZ();
+  if (const eval::Direction* d = plan.wayOf(p)) out = d->out;
+  else if (const auto* s = plan.subAssemblyOf(p)) out = s->out;
+  const double size = assembly.parts[p].mesh ? assembly.parts[p].mesh->bounds().diagonal().norm() : 0.05;
+  return (1.5 * size + 0.02) * out.normalized();
 }
 
 Motion orderMotion(const Assembly& assembly, const eval::SequencePlan& plan, double stepSeconds, double rate) {
   Motion m;
   m.name = "order";
   const std::size_t n = assembly.parts.size();
+  m.parts.resize(n);
   const std::vector<Eigen::Isometry3d> home = eval::homePoses(assembly);
-  // Each part's step (its place in the order), and where it comes in from.
-  std::vector<std::optional<double>> start(n);
-  std::vector<Eigen::Vector3d> out(n, Eigen::Vector3d::UnitZ());
+  m.duration = static_cast<double>(std::max<std::size_t>(plan.order.size(), 1)) * stepSeconds;
+  std::vector<bool> inOrder(n, false);
+  // Four fifths of its step on the way, the rest at home: a step's end shows it in place, the next not yet.
+  const double flight = 0.8 * stepSeconds;
+  const int samples = std::max(2, static_cast<int>(std::ceil(flight * rate)));
   for (std::size_t i = 0; i < plan.order.size(); ++i) {
     const PartId p = plan.order[i];
-    start[p] = static_cast<double>(i) * stepSeconds;
-    if (const eval::Direction* d = plan.wayOf(p)) out[p] = d->out;
-    else if (const auto* s = plan.subAssemblyOf(p)) out[p] = s->out;
+    inOrder[p] = true;
+    Track& track = m.parts[p];
+    if (plan.base && p == *plan.base) {
+      track.times = {0.0};
+      track.poses = {home[p]};
+      continue;
+    }
+    // From out of the way, slowing as it arrives.
+    const Eigen::Vector3d away = orderApproach(assembly, plan, p);
+    const double start = static_cast<double>(i) * stepSeconds;
+    track.shown = start;
+    for (int k = 0; k <= samples; ++k) {
+      const double s = static_cast<double>(k) / samples;
+      Eigen::Isometry3d pose = home[p];
+      pose.pretranslate((1.0 - s) * (1.0 - s) * away);
+      track.times.push_back(start + s * flight);
+      track.poses.push_back(pose);
+    }
   }
-  const double end = static_cast<double>(std::max<std::size_t>(plan.order.size(), 1)) * stepSeconds;
+  // Parts no order inserts: at home at the end.
   for (PartId p = 0; p < n; ++p)
-    if (!start[p]) start[p] = end;  // no order inserts it: shown at home at the end
-  const auto poseAt = [&](PartId p, double t) {
-    Eigen::Isometry3d pose = home[p];
-    if (plan.base && p == *plan.base) return pose;
-    const double s = std::clamp((t - *start[p]) / stepSeconds, 0.0, 1.0);
-    // From out of the way: the part's own size and a little more.
-    const double size = assembly.parts[p].mesh ? assembly.parts[p].mesh->bounds().diagonal().norm() : 0.05;
-    const double away = (1.0 - s) * (1.0 - s) * (1.5 * size + 0.02);  // easing in: slower as it arrives
-    pose.pretranslate(away * out[p]);
-    return pose;
-  };
-  const int samples = std::max(1, static_cast<int>(std::ceil(end * rate)));
-  for (int k = 0; k <= samples; ++k) {
-    const double t = end * static_cast<double>(k) / samples;
-    std::vector<Eigen::Isometry3d> poses(n);
-    for (PartId p = 0; p < n; ++p) poses[p] = poseAt(p, t);
-    m.times.push_back(t);
-    m.poses.push_back(std::move(poses));
-  }
-  m.shown.assign(start.begin(), start.end());
-  if (plan.base) m.shown[*plan.base].reset();
+    if (!inOrder[p]) {
+      m.parts[p].times = {0.0};
+      m.parts[p].poses = {home[p]};
+      m.parts[p].shown = m.duration;
+    }
   return m;
 }
 
@@ -224,48 +259,49 @@ std::vector<std::uint8_t> glb(const Assembly& assembly, const Motion& motion, co
     }
     return it->second;
   };
-  const auto addNode = [&](const std::string& name, const Eigen::Isometry3d& pose, std::optional<std::size_t> mesh) {
+  const auto addNode = [&](const std::string& name, const Eigen::Isometry3d& pose, std::optional<std::size_t> mesh,
+                           bool environment) {
+    // The name again in extras: viewers make node names safe for their animation paths (three.js turns
+    // "pin #2" into "pin_#2"); extras come through as they are.
     json node = {{"name", name},
                  {"translation", vec(pose.translation())},
-                 {"rotation", quaternion(Eigen::Quaterniond(pose.linear()).normalized())}};
+                 {"rotation", quaternion(Eigen::Quaterniond(pose.linear()).normalized())},
+                 {"extras", {{"name", name}}}};
+    if (environment) node["extras"]["environment"] = true;
     if (mesh) node["mesh"] = *mesh;
     nodes.push_back(std::move(node));
     nodes[0]["children"].push_back(nodes.size() - 1);
     return nodes.size() - 1;
   };
-  const bool moving = !motion.times.empty();
+  const bool moving = !motion.parts.empty();
+  if (moving && motion.parts.size() != assembly.parts.size())
+    throw std::invalid_argument("glb: a motion with a track per part of the assembly");
+  for (const Track& t : motion.parts)
+    if (t.times.empty() || t.times.size() != t.poses.size())
+      throw std::invalid_argument("glb: a track without keys, or keys without poses");
   std::vector<std::size_t> partNode(assembly.parts.size());
   for (PartId p = 0; p < assembly.parts.size(); ++p) {
     const Part& part = assembly.parts[p];
     const auto d = p < scene.partDrawable.size() ? scene.partDrawable[p] : std::nullopt;
     std::optional<std::size_t> mesh;
     if (d && part.mesh) mesh = meshFor(part.mesh, scene.drawables[*d].color, part.product.empty() ? part.name : part.product);
-    partNode[p] = addNode(part.name, moving ? motion.poses.front()[p] : part.pose, mesh);
+    partNode[p] = addNode(part.name, moving ? motion.parts[p].poses.front() : part.pose, mesh, false);
   }
   for (const view::Drawable& d : scene.drawables) {
     if (d.kind != view::DrawableKind::Environment || d.backdrop) continue;
     const EnvironmentObject& e = assembly.environment[d.index];
-    if (e.mesh) addNode(e.name, e.pose, meshFor(e.mesh, d.color, e.name));
+    if (e.mesh) addNode(e.name, e.pose, meshFor(e.mesh, d.color, e.name), true);
   }
 
   if (moving) {
-    if (motion.poses.size() != motion.times.size())
-      throw std::invalid_argument("glb: a motion's poses and times differ in number");
     json samplers = json::array(), channels = json::array();
-    std::map<std::vector<std::size_t>, std::size_t> timeAccessors;  // by the keys kept
-    const auto timesOf = [&](const std::vector<std::size_t>& keys) {
-      auto it = timeAccessors.find(keys);
-      if (it != timeAccessors.end()) return it->second;
-      std::vector<float> t;
-      for (const std::size_t k : keys) t.push_back(static_cast<float>(motion.times[k]));
-      return timeAccessors.emplace(keys, buffer.floats(t, 1, std::nullopt)).first->second;
-    };
     for (PartId p = 0; p < assembly.parts.size(); ++p) {
+      const Track& track = motion.parts[p];
       std::vector<Eigen::Vector3d> at;
       std::vector<Eigen::Quaterniond> turn;
-      for (const auto& frame : motion.poses) {
-        at.push_back(frame[p].translation());
-        Eigen::Quaterniond q(frame[p].linear());
+      for (const Eigen::Isometry3d& pose : track.poses) {
+        at.push_back(pose.translation());
+        Eigen::Quaterniond q(pose.linear());
         q.normalize();
         if (!turn.empty() && turn.back().dot(q) < 0.0) q.coeffs() = -q.coeffs();  // the short way round
         turn.push_back(q);
@@ -276,22 +312,23 @@ std::vector<std::uint8_t> glb(const Assembly& assembly, const Motion& motion, co
           std::any_of(turn.begin(), turn.end(),
                       [&](const Eigen::Quaterniond& q) { return q.angularDistance(turn.front()) > options.angleTolerance; });
       if (moves) {
-        const std::vector<std::size_t> keys = thinned(at, turn, motion.times, options);
-        std::vector<float> translation, rotation;
+        const std::vector<std::size_t> keys = thinned(at, turn, track.times, options);
+        std::vector<float> times, translation, rotation;
         for (const std::size_t k : keys) {
+          times.push_back(static_cast<float>(track.times[k]));
           for (int c = 0; c < 3; ++c) translation.push_back(static_cast<float>(at[k][c]));
           for (const double c : {turn[k].x(), turn[k].y(), turn[k].z(), turn[k].w()}) rotation.push_back(static_cast<float>(c));
         }
-        const std::size_t input = timesOf(keys);
+        const std::size_t input = buffer.floats(times, 1, std::nullopt);
         samplers.push_back(
             {{"input", input}, {"output", buffer.floats(translation, 3, std::nullopt)}, {"interpolation", "LINEAR"}});
         channels.push_back({{"sampler", samplers.size() - 1}, {"target", {{"node", partNode[p]}, {"path", "translation"}}}});
         samplers.push_back({{"input", input}, {"output", buffer.floats(rotation, 4, std::nullopt)}, {"interpolation", "LINEAR"}});
         channels.push_back({{"sampler", samplers.size() - 1}, {"target", {{"node", partNode[p]}, {"path", "rotation"}}}});
       }
-      if (p < motion.shown.size() && motion.shown[p] && *motion.shown[p] > motion.times.front()) {
+      if (track.shown && *track.shown > 0.0) {
         // Hidden (scaled to nothing) until its time.
-        const std::vector<float> t{static_cast<float>(motion.times.front()), static_cast<float>(*motion.shown[p])};
+        const std::vector<float> t{0.0f, static_cast<float>(*track.shown)};
         const std::vector<float> s{0.0f, 0.0f, 0.0f, 1.0f, 1.0f, 1.0f};
         samplers.push_back({{"input", buffer.floats(t, 1, std::nullopt)},
                             {"output", buffer.floats(s, 3, std::nullopt)},

@@ -11,6 +11,7 @@
 #include <set>
 
 #include "picture.hpp"
+#include "view3d.hpp"
 #include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
@@ -513,7 +514,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                   "body{font-family:sans-serif;margin:24px;color:#222;max-width:1100px}"
                   "table{border-collapse:collapse;margin:8px 0 20px}td,th{border:1px solid #ccc;padding:3px 7px;font-size:13px}"
                   "th{background:#eef2f6;text-align:left}td.n{text-align:right}.stuck{color:#b22}tr.miss td{background:#fde9d9}"
-                  ".steps{display:flex;flex-wrap:wrap;gap:10px}.steps figure{margin:0;width:320px}figcaption{font-size:12px}"
+                  "tr.sel td{background:#dbe7fb}.steps{display:flex;flex-wrap:wrap;gap:10px}.steps figure{margin:0;width:320px}figcaption{font-size:12px}"
                   "</style></head><body>\n";
   const std::vector<Eigen::Isometry3d> home = eval::homePoses(a);
   const Eigen::AlignedBox3d box = assembledBounds(a, plan, home);
@@ -521,6 +522,7 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
        (plan.complete() ? "An order puts every part in place."
                         : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
        " " + std::to_string(plan.order.size()) + " parts in the order, base " + html(a.parts[*plan.base].name) + ".</p>\n";
+  h += orderView(a, plan);
   // The steps first, one row each: what goes in, how, and what it costs by the estimate.
   const auto runs = stepRuns(plan);
   std::map<PartId, double> estimate;

@@ -428,6 +428,7 @@ TEST(Dfa, TheBracketsPartsGetTheChartsCodes) {
 
 #include <nlohmann/json.hpp>
 
+#include "vaw/report/gltf.hpp"
 #include "vaw/report/report.hpp"
 
 namespace {
@@ -526,6 +527,76 @@ TEST(Report, TheHtmlShowsTheCsvsNumbersInChromium) {
 
 // The ways home in the report: a row each, the near misses marked, a picture of each way, ways.csv and
 // evaluation.json with the same numbers.
+// The order in 3D, in Debian's Chromium drawing with WebGL in software: the order's glTF is inlined whole;
+// the slider's step (through the address, "#step=K", as the slider sets it) shows the base and the parts
+// up to that step, a part picked ("select=NAME", as a click picks it) marks its rows in the tables, and
+// the canvas is drawn. The screenshots stay in the build tree to be looked at.
+TEST(Report, TheOrderPlaysIn3DInChromium) {
+  const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
+  const SequencePlan plan = vaw::eval::planSequence(a);
+  ASSERT_EQ(plan.order.size(), 8u);
+  const fs::path dir = fs::absolute("report-3d");
+  const auto files = vaw::report::writeReport(a, plan, {}, dir);
+  EXPECT_LT(fs::file_size(files.html), 2u << 20) << "the bundled sample's page under 2 MB";
+  std::ifstream in(files.html);
+  const std::string page((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // The glTF inlined is the order's, byte for byte.
+  const std::string open = "<script type='application/octet-stream' id='view3d-glb'>";
+  const auto from = page.find(open);
+  ASSERT_NE(from, std::string::npos);
+  const std::string text = page.substr(from + open.size(), page.find("</script>", from) - from - open.size());
+  std::vector<std::uint8_t> bytes;
+  std::uint32_t acc = 0;
+  int bits = 0;
+  for (const char c : text) {
+    const auto at = std::string_view("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/").find(c);
+    if (at == std::string_view::npos) continue;
+    acc = (acc << 6) | static_cast<std::uint32_t>(at);
+    if ((bits += 6) >= 8) bytes.push_back(static_cast<std::uint8_t>(acc >> (bits -= 8)));
+  }
+  EXPECT_EQ(bytes, vaw::report::glb(a, vaw::report::orderMotion(a, plan, 1.0, 20.0)));
+
+  const std::string chromium = "/usr/bin/chromium";
+  ASSERT_TRUE(fs::exists(chromium)) << "Debian's chromium (packaging/install-deps.sh installs it) draws the view";
+  const std::string flags = " --headless --no-sandbox --hide-scrollbars --virtual-time-budget=8000 --window-size=1150,900 ";
+  const auto view = [&](const std::string& hash) {
+    const std::string dom = run(chromium + flags + "--dump-dom 'file://" + files.html.string() + "#" + hash + "' 2>/dev/null");
+    std::smatch m;
+    if (!std::regex_search(dom, m, std::regex("data-view=\"([^\"]*)\""))) return std::pair{nlohmann::json(), dom};
+    std::string j = m[1];
+    for (std::size_t at; (at = j.find("&quot;")) != std::string::npos;) j.replace(at, 6, "\"");
+    return std::pair{nlohmann::json::parse(j), dom};
+  };
+  const auto name = [&](std::size_t i) { return a.parts[plan.order[i]].name; };
+  for (const std::size_t step : {std::size_t{0}, std::size_t{2}, plan.order.size() - 1}) {
+    const auto [v, dom] = view("step=" + std::to_string(step) + "&select=" + name(1));
+    ASSERT_TRUE(v.is_object()) << "the view's script did not finish";
+    ASSERT_FALSE(v.contains("error")) << v.dump();
+    EXPECT_EQ(v["step"], step);
+    EXPECT_EQ(v["parts"], a.parts.size());
+    EXPECT_EQ(v["shown"], step + 1) << "the base and the parts up to the step";
+    EXPECT_EQ(v["selected"], name(1));
+    EXPECT_GT(v["drawn"].get<double>(), 0.05) << "the canvas shows the parts";
+    // The picked part's row in the parts table is marked, no other.
+    const auto table = dom.substr(dom.find("id=\"parts\""), dom.find("</table>", dom.find("id=\"parts\"")) - dom.find("id=\"parts\""));
+    const std::regex marked("<tr class=\"sel\"><td>([^<]*)</td>");
+    std::vector<std::string> rows;
+    for (auto r = std::sregex_iterator(table.begin(), table.end(), marked); r != std::sregex_iterator(); ++r) rows.push_back((*r)[1]);
+    EXPECT_EQ(rows, std::vector<std::string>{name(1)});
+  }
+  // Drawn less at the first step (the base alone) than at the last; the exploded view drawn otherwise.
+  const double assembled = view("step=7").first["drawn"].get<double>();
+  EXPECT_LT(view("step=0").first["drawn"].get<double>(), assembled);
+  const auto apart = view("step=7&exploded").first;
+  EXPECT_EQ(apart["exploded"], true);
+  EXPECT_EQ(apart["shown"], plan.order.size());
+  EXPECT_NE(apart["drawn"].get<double>(), assembled);
+  for (const auto& [shot, hash] : {std::pair{"view-step-3.png", "step=2"}, std::pair{"view-assembled.png", "step=7&select=bracket"},
+                                   std::pair{"view-exploded.png", "step=7&exploded"}})
+    (void)run(chromium + flags + "--screenshot='" + (dir / shot).string() + "' 'file://" + files.html.string() + "#" + hash + "' 2>/dev/null");
+  EXPECT_GT(fs::file_size(dir / "view-step-3.png"), 20000u) << "a screenshot of the view, to look at";
+}
+
 TEST(Report, WaysHomeAreTabledAndPicturedWithTheirNearMisses) {
   const Assembly a = load("bolted-bracket.stp", [](const fs::path& f) { vaw::steptest::writeBoltedBracket(f); });
   const SequencePlan plan = vaw::eval::planSequence(a);
@@ -587,7 +658,8 @@ TEST(Report, ALongOrderIsSummedUpByStepAndPicturedPerStep) {
   ASSERT_GT(perStep.size(), 2u);
   const fs::path dir = fs::absolute("report-tiled-5x1");
   const auto files = vaw::report::writeReport(a, plan, {}, dir);
-  EXPECT_LT(fs::file_size(files.html), 1u << 20) << "a page to open, not an archive";
+  // three.js (about 0.96 MB) is inlined for the 3D view; the rest is the order's glTF, the pictures and tables.
+  EXPECT_LT(fs::file_size(files.html), 2u << 20) << "a page to open, not an archive";
 
   const std::string chromium = "/usr/bin/chromium";
   ASSERT_TRUE(fs::exists(chromium));

@@ -15,23 +15,32 @@
 
 namespace vaw::report {
 
-// Where each part is over time: poses[k][p] is part p's world pose at times[k] (s, rising from 0); a part
-// with `shown` is drawn from that time on (the order's parts appear at their step), else always.
+// Where each part is over time, a track per part: its world poses at rising times (s, from 0), kept only
+// where it moves (a part at rest for a while has a key where the rest begins and one where it ends), and
+// from when it is drawn (the order's parts appear at their step; none: always).
+struct Track {
+  std::vector<double> times;
+  std::vector<Eigen::Isometry3d> poses;
+  std::optional<double> shown;
+};
 struct Motion {
   std::string name;  // the animation's
-  std::vector<double> times;
-  std::vector<std::vector<Eigen::Isometry3d>> poses;
-  std::vector<std::optional<double>> shown;  // per part; empty: every part always
+  double duration = 0.0;
+  std::vector<Track> parts;  // by PartId; empty: the scene at rest
 };
 
 // A recorded session replayed on its scene, every part's pose sampled `rate` times a second (and at the
-// session's end).
+// session's end), a part's samples where it stands still left out but for the first and last.
 Motion sessionMotion(const std::shared_ptr<const sim::Scene>& scene, const sim::Session& session, double rate);
 
 // The planned order played: the base in place, then each part in its step's turn flying home along its way
-// over `stepSeconds`, from a little more than its own size out; parts no order inserts appear at home at
-// the end. Sampled `rate` times a second.
+// over the first four fifths of `stepSeconds`, from a little more than its own size out; parts no order
+// inserts appear at home at the end. Sampled `rate` times a second.
 Motion orderMotion(const Assembly& assembly, const eval::SequencePlan& plan, double stepSeconds, double rate);
+
+// Where the order has a part come in from: the offset from its home (world, m) along its way out, one and a
+// half times its own size and 20 mm; zero for the base and for parts no order inserts.
+Eigen::Vector3d orderApproach(const Assembly& assembly, const eval::SequencePlan& plan, PartId part);
 
 struct GltfOptions {
   // A part's keys are thinned where the linear interpolation between the keys kept stays within these of
