@@ -11,7 +11,11 @@
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
+#include <type_traits>
 #include <vector>
+
+#include "vaw/hash.hpp"
 
 namespace vaw {
 
@@ -37,6 +41,26 @@ class KeptResults {
 
   std::filesystem::path dir_;
   std::uint64_t limit_;
+};
+
+// The key a result is kept under, the one way every kept result makes it: the build that computes the
+// result first (buildIdentity), then each thing the result depends on, in order. FNV-1a over them, as text.
+class ResultKey {
+ public:
+  explicit ResultKey(std::uint64_t build) { add(build); }
+  ResultKey& add(const void* data, std::size_t size) {
+    h_ = fnv1a(data, size, h_);
+    return *this;
+  }
+  ResultKey& add(std::string_view text) { return add(text.data(), text.size()); }
+  template <typename T>
+  requires std::is_trivially_copyable_v<T> &&(!std::is_pointer_v<T>)ResultKey& add(const T& value) {
+    return add(&value, sizeof value);
+  }
+  [[nodiscard]] std::string text() const { return hashText(h_); }
+
+ private:
+  std::uint64_t h_ = kFnvOffset;
 };
 
 // What stands for a build in a key, so that a rebuilt library or program computes anew: the GNU build-id

@@ -53,9 +53,8 @@ class KeptPrecedence {
   KeptPrecedence(const Assembly& a, const ImportOptions& import)
       : kept_(KeptResults::under(import.resultCache, import.resultCacheMB, "who-goes-first")) {
     if (!kept_) return;
-    std::uint64_t h = buildIdentity(reinterpret_cast<const void*>(&eval::geometricPrecedence));
-    const std::uint64_t content = contentHash(a);
-    h = fnv1a(&content, sizeof content, h);
+    ResultKey key(buildIdentity(reinterpret_cast<const void*>(&eval::geometricPrecedence)));
+    key.add(contentHash(a));
     std::set<const CadSolid*> solids;
     for (const Part& p : a.parts)
       if (p.cad && solids.insert(p.cad.get()).second)
@@ -64,9 +63,9 @@ class KeptPrecedence {
                                    f.direction.x(), f.direction.y(), f.direction.z(), f.radius,
                                    f.convex ? 1.0 : 0.0, f.axialMin, f.axialMax, f.halfAngle,
                                    static_cast<double>(f.firstTriangle), static_cast<double>(f.triangleCount)};
-          h = fnv1a(fields, sizeof fields, h);
+          key.add(fields);
         }
-    key_ = hashText(h);
+    key_ = key.text();
   }
 
   // The pairs kept for these parts, when there are and they name parts that exist.

@@ -175,7 +175,7 @@ struct Joiner {
   std::map<std::string, std::string> units;
 
   std::string decide(const std::vector<Member>& members, const std::string& key) {
-    const std::string file = hashText(fnv1a(key, buildIdentity(reinterpret_cast<const void*>(&joinUnits))));
+    const std::string file = ResultKey(buildIdentity(reinterpret_cast<const void*>(&joinUnits))).add(key).text();
     if (kept)
       if (const auto data = kept->find(file); data && !data->empty() && (*data)[0] == 'U')
         return std::string(data->begin() + 1, data->end());
