@@ -99,9 +99,9 @@ json toJson(const Assembly& a, const eval::SequencePlan& plan, double seconds) {
   json skipped = json::array();
   for (const PartId p : plan.skipped) skipped.push_back(a.parts[p].name);
   j["without_final_pose"] = skipped;
-  j["pair_sweeps"] = plan.sweeps;
-  j["pair_sweeps_reused"] = plan.reused;
-  j["undecided_sweeps"] = plan.undecided;
+  j["pair_checks"] = plan.pairChecks;
+  j["pair_checks_reused"] = plan.reused;
+  j["undecided_checks"] = plan.undecided;
   j["checks"] = plan.evaluations;
   j["seconds"] = seconds;
   return j;
@@ -156,11 +156,11 @@ void printText(const Assembly& a, const eval::SequencePlan& plan, double seconds
     for (const PartId p : plan.skipped) names += (names.empty() ? "" : ", ") + a.parts[p].name;
     std::printf("\nwithout a final pose, not in the sequence: %s\n", names.c_str());
   }
-  std::printf("\nways home: every part's, swept through the assembly (%d pair sweeps, %d more answered by one of the same "
-              "parts placed alike, %d checks, %.2f s)\n",
-              plan.sweeps, plan.reused, plan.evaluations, seconds);
+  std::printf("\nways home: every part's, moved through the assembly (%d pair checks, %d more answered by one of the same "
+              "parts placed alike, %d distance and blocked checks, %.2f s)\n",
+              plan.pairChecks, plan.reused, plan.evaluations, seconds);
   if (plan.undecided > 0)
-    std::printf("  %d sweep%s ran out of their limit undecided: counted as blocked\n", plan.undecided, plan.undecided == 1 ? "" : "s");
+    std::printf("  %d check%s ran out of their limit undecided: counted as blocked\n", plan.undecided, plan.undecided == 1 ? "" : "s");
   for (const auto& c : plan.checks) {
     std::printf("  %s\n", a.parts[c.part].name.c_str());
     for (const auto& d : c.directions)
@@ -219,7 +219,7 @@ int evaluate(const EvaluateArgs& args) {
     }
     // Each way home walked past the parts already in, and swept.
     std::optional<report::WaysHome> ways;
-    if (args.sweeps) {
+    if (args.ways) {
       ways.emplace();
       ways->options.threshold = 1e-3 * args.thresholdMm;
       ways->options.voxel = 1e-3 * args.voxelMm;

@@ -431,7 +431,7 @@ int dispatch(int argc, char** argv) {
   vaw::app::EvaluateArgs ev;
   CLI::App* evCmd = app.add_subcommand(
       "evaluate", "Which order puts an assembly together (a scene, a STEP file or a mesh file): every part's ways home "
-                  "swept through the assembly, the precedence between parts, an order, and the parts no order can "
+                  "moved through the assembly, the precedence between parts, an order, and the parts no order can "
                   "put in place with what blocks them (docs/evaluation.md). One process per input: a folder goes "
                   "through GNU parallel or a Slurm job array.");
   evCmd->add_option("FILE", ev.file, "Scene, STEP or mesh file, or a bundled scene by its name")->required();
@@ -444,12 +444,12 @@ int dispatch(int argc, char** argv) {
   evCmd->add_option("--up", ev.up, "CAD files: which way the assembly stands: auto (the default), the file's axis that points up or "
                                    "its direction as three numbers")
       ->check(upChoice);
-  CLI::Option* sweeps = evCmd->add_flag("--sweeps", ev.sweeps, "Each way home walked past the parts already in: its least clearance to each, near misses "
+  CLI::Option* ways = evCmd->add_flag("--ways,--sweeps", ev.ways, "Each way home walked past the parts already in: its least clearance to each, near misses "
                                         "flagged, and the space it needs swept (in the text, the JSON and the report with a picture of each)");
-  evCmd->add_option("--threshold", ev.thresholdMm, "With --sweeps: closer than this to a part already in is a near miss (mm, default 5)")
-      ->type_name("MM")->check(CLI::NonNegativeNumber)->needs(sweeps);
-  evCmd->add_option("--voxel", ev.voxelMm, "With --sweeps: the swept volumes' voxel edge (mm, default 1; 0 leaves them out)")
-      ->type_name("MM")->check(CLI::NonNegativeNumber)->needs(sweeps);
+  evCmd->add_option("--threshold", ev.thresholdMm, "With --ways: closer than this to a part already in is a near miss (mm, default 5)")
+      ->type_name("MM")->check(CLI::NonNegativeNumber)->needs(ways);
+  evCmd->add_option("--voxel", ev.voxelMm, "With --ways: the swept volumes' voxel edge (mm, default 1; 0 leaves them out)")
+      ->type_name("MM")->check(CLI::NonNegativeNumber)->needs(ways);
   addReaderLimits(evCmd, ev.import);
   evCmd->callback([&] { command = [&] { return vaw::app::evaluate(ev); }; });
 

@@ -263,11 +263,11 @@ TEST(SweepDistance, WhatATranslationPassesAtAClearanceIsLeftOut) {
   const Eigen::Isometry3d home = at(0, 0, 0.03);
   const Eigen::Vector3d down = -Eigen::Vector3d::UnitZ();
   EXPECT_LT(w.distance(ObjectId::part(tube), home, ObjectId::part(pin)), 0.0006) << "the pin is half a millimetre from the bore";
-  EXPECT_TRUE(std::isinf(w.sweepDistance(ObjectId::part(tube), home, ObjectId::part(pin), FilterMode::SkipCoaxial, down)))
+  EXPECT_TRUE(std::isinf(w.distanceAlong(ObjectId::part(tube), home, ObjectId::part(pin), FilterMode::SkipCoaxial, down)))
       << "down its axis the tube never meets the pin";
-  EXPECT_NEAR(w.sweepDistance(ObjectId::part(tube), home, ObjectId::part(plate), FilterMode::SkipCoaxial, down), 0.02, 1e-9);
+  EXPECT_NEAR(w.distanceAlong(ObjectId::part(tube), home, ObjectId::part(plate), FilterMode::SkipCoaxial, down), 0.02, 1e-9);
   // Sideways the pin is in the way, half a millimetre off (less the facets' sagitta).
-  const double side = w.sweepDistance(ObjectId::part(tube), home, ObjectId::part(pin), FilterMode::SkipCoaxial, Eigen::Vector3d::UnitX());
+  const double side = w.distanceAlong(ObjectId::part(tube), home, ObjectId::part(pin), FilterMode::SkipCoaxial, Eigen::Vector3d::UnitX());
   EXPECT_GT(side, 0.0004);
   EXPECT_LT(side, 0.0006);
   // So the way down its axis costs one distance query, and ends on the plate after 20 mm.
@@ -289,12 +289,12 @@ TEST(SweepDistance, WhatTheMotionTakesApartIsLeftOutAndACapEndsTheSearch) {
   const CollisionWorld w(b.a);
   const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   EXPECT_LT(w.distance(ObjectId::part(peg), ObjectId::part(disc)), 1e-9) << "the peg stands on the disc";
-  EXPECT_TRUE(std::isinf(w.sweepDistance(ObjectId::part(peg), at(0, 0, 0.01), ObjectId::part(disc), FilterMode::SkipCoplanar, up)))
+  EXPECT_TRUE(std::isinf(w.distanceAlong(ObjectId::part(peg), at(0, 0, 0.01), ObjectId::part(disc), FilterMode::SkipCoplanar, up)))
       << "lifted, the peg only leaves the disc";
-  EXPECT_LT(w.sweepDistance(ObjectId::part(peg), at(0, 0, 0.01), ObjectId::part(disc), FilterMode::SkipCoplanar, -up), 1e-9)
+  EXPECT_LT(w.distanceAlong(ObjectId::part(peg), at(0, 0, 0.01), ObjectId::part(disc), FilterMode::SkipCoplanar, -up), 1e-9)
       << "pushed down it is in contact at once";
-  EXPECT_NEAR(w.sweepDistance(ObjectId::part(high), at(0.012, 0, 0.03), ObjectId::part(disc), FilterMode::SkipCoplanar, -up), 0.02, 1e-9);
-  EXPECT_DOUBLE_EQ(w.sweepDistance(ObjectId::part(high), at(0.012, 0, 0.03), ObjectId::part(disc), FilterMode::SkipCoplanar, -up, 0.005),
+  EXPECT_NEAR(w.distanceAlong(ObjectId::part(high), at(0.012, 0, 0.03), ObjectId::part(disc), FilterMode::SkipCoplanar, -up), 0.02, 1e-9);
+  EXPECT_DOUBLE_EQ(w.distanceAlong(ObjectId::part(high), at(0.012, 0, 0.03), ObjectId::part(disc), FilterMode::SkipCoplanar, -up, 0.005),
                    0.005)
       << "a caller going no farther than 5 mm learns only that nothing is nearer";
 }
@@ -311,7 +311,7 @@ TEST(SweepDistance, PartsOnEitherSideOfAFaceTheMotionLiesInOnlyTouch) {
   const CollisionWorld w(b.a);
   const Eigen::Isometry3d home = at(0, 0, 0.005);
   const Eigen::Vector3d side = Eigen::Vector3d(1, 1, 0).normalized();
-  EXPECT_TRUE(std::isinf(w.sweepDistance(ObjectId::part(upper), home, ObjectId::part(lower), FilterMode::SkipCoaxial, side)));
+  EXPECT_TRUE(std::isinf(w.distanceAlong(ObjectId::part(upper), home, ObjectId::part(lower), FilterMode::SkipCoaxial, side)));
   const MotionEvent slide = firstBlockBy(w, ObjectId::part(upper), ObjectId::part(lower), translation(home, side, 0.1), FilterMode::SkipCoaxial);
   EXPECT_EQ(slide.kind, EventKind::None);
   EXPECT_LE(slide.evaluations, 2);
@@ -327,7 +327,7 @@ TEST(SweepDistance, PartsOnEitherSideOfAFaceTheMotionLiesInOnlyTouch) {
   const PartId post = c.part("post", primitives::cylinder(0.005, 0.04, 6), at(0.012, 0, 0.02));
   c.base(ring);
   const CollisionWorld w2(c.a);
-  EXPECT_TRUE(std::isinf(w2.sweepDistance(ObjectId::part(post), at(0.012, 0, 0.02), ObjectId::part(ring), FilterMode::SkipCoplanar,
+  EXPECT_TRUE(std::isinf(w2.distanceAlong(ObjectId::part(post), at(0.012, 0, 0.02), ObjectId::part(ring), FilterMode::SkipCoplanar,
                                           Eigen::Vector3d::UnitY())));
   const MotionEvent across = firstBlockBy(w2, ObjectId::part(post), ObjectId::part(ring), translation(at(0.012, 0, 0.02), Eigen::Vector3d::UnitY(), 0.1),
                                           FilterMode::SkipCoplanar);
@@ -393,7 +393,7 @@ TEST(PlanSequence, APegUnderABlockGoesInFirstAndAPartWithNoFreeWayIsNamed) {
   EXPECT_EQ(plan.precedence[0].after, block);
   EXPECT_EQ(plan.precedence[0].reason, eval::Precedence::Reason::Blocks);
   EXPECT_NEAR(plan.checkOf(peg)->directions.front().blockers.at(0).distance, 0.003, 2e-5);
-  EXPECT_EQ(plan.sweeps, 1) << "the peg against the block; the plate the peg stands on is behind it on its way up, not swept";
+  EXPECT_EQ(plan.pairChecks, 1) << "the peg against the block; the plate the peg stands on is behind it on its way up, not swept";
 
   // The block's way flipped to come up from below the plate: the plate is always there, so nothing puts
   // the block in, and the peg still goes in.

@@ -228,7 +228,7 @@ void BM_PlanSequence(benchmark::State& state) {
   vaw::eval::SequencePlan plan;
   for (auto _ : state) benchmark::DoNotOptimize(plan = vaw::eval::planSequence(a));
   state.counters["parts"] = static_cast<double>(a.parts.size());
-  state.counters["sweeps"] = plan.sweeps;
+  state.counters["sweeps"] = plan.pairChecks;
   state.counters["reused"] = plan.reused;
   state.counters["checks"] = plan.evaluations;
   state.counters["ordered"] = static_cast<double>(plan.order.size());

@@ -173,8 +173,8 @@ TEST(LargeProduct, AnOrderPutsEveryPartInPlaceKeepingEveryTruePrecedence) {
     if (position(e.before) >= position(e.after) && ++broken <= 5)
       ADD_FAILURE() << a.parts[e.before].name << " must come before " << a.parts[e.after].name;
   EXPECT_EQ(broken, 0);
-  std::printf("[ info ] %zu parts ordered; %d pair sweeps, %d answered by another's, %d checks\n", plan.order.size(),
-              plan.sweeps, plan.reused, plan.evaluations);
+  std::printf("[ info ] %zu parts ordered; %d pair checks, %d answered by another's, %d checks\n", plan.order.size(),
+              plan.pairChecks, plan.reused, plan.evaluations);
 }
 
 // Each of a product's x * y tiles got what the first got (counted per kind across the product), nothing

@@ -69,7 +69,7 @@ TEST(Sequence, BoltedBracketGoesTogetherStudsBracketNuts) {
   ASSERT_TRUE(plan.complete());
   EXPECT_EQ(plan.order.size(), a.parts.size());
   EXPECT_EQ(plan.order.front(), *a.base);
-  std::printf("[ info ] order: %s; %d pair sweeps, %d checks\n", names(a, plan.order).c_str(), plan.sweeps, plan.evaluations);
+  std::printf("[ info ] order: %s; %d pair checks, %d distance and blocked checks\n", names(a, plan.order).c_str(), plan.pairChecks, plan.evaluations);
 
   // The bracket goes over both studs and under both nuts, which stand in its way out: the nuts block it.
   const std::set<std::string> expected = {

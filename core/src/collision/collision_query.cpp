@@ -381,7 +381,7 @@ void meshMeshQuery(PairContext& ctx, const Eigen::Isometry3d& poseA, const Eigen
 }
 
 // The distance that bounds how far a part can translate along a direction before a pair could block it
-// (CollisionWorld::sweepDistance): FCL's mesh distance traversal with the leaf test leaving out the pairs
+// (CollisionWorld::distanceAlong): FCL's mesh distance traversal with the leaf test leaving out the pairs
 // that can never block that translation. Two triangles whose shadows on the plane across the direction do
 // not overlap never meet while one translates along it (a shaft's facets and a looser bore's, the rim of a
 // hole and the shaft through it); pairs the filter skips (equal coaxial cylinders along their axis, a rim
@@ -702,7 +702,7 @@ double CollisionWorld::distance(ObjectId a, const Eigen::Isometry3d& poseA, Obje
   return std::max(0.0, res.min_distance);
 }
 
-double CollisionWorld::sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
+double CollisionWorld::distanceAlong(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
                                      const Eigen::Vector3d& direction, double atMost) const {
   const WorldObject& A = impl_->get(a);
   const WorldObject& B = impl_->get(b);

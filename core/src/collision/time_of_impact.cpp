@@ -243,7 +243,7 @@ MotionEvent firstBlockBy(const CollisionWorld& world, ObjectId mover, ObjectId o
   // it slides along, and whatever it passes at a clearance, left out); any other motion by the distance.
   const auto gapAt = [&](double at) {
     // Beyond the rest of the way plus the tolerance a gap decides nothing more: the search stops there.
-    return straight ? world.sweepDistance(mover, motion.pose(at), obstacle, mode, travel.normalized(),
+    return straight ? world.distanceAlong(mover, motion.pose(at), obstacle, mode, travel.normalized(),
                                           (until - at) * L + options.tolerance)
                     : world.distance(mover, motion.pose(at), obstacle);
   };

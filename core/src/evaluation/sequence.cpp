@@ -78,14 +78,14 @@ std::vector<Direction> directionsOf(const Assembly& a, PartId p, const std::vect
 }
 
 // Where `mover` (at home[mover]) moving out along `out` first meets `obstacle`, if anywhere before it has
-// passed it; the block's distance, or flagged undecided. `whole`: the span to sweep at most.
+// passed it; the block's distance, or flagged undecided. `whole`: the span to check at most.
 //
 // Products repeat their parts (every bolt of a kind in every bracket of a kind, every copy of a
-// sub-assembly): a sweep is decided by the two shapes, where one stands relative to the other, the way out
+// sub-assembly): a check is decided by the two shapes, where one stands relative to the other, the way out
 // in the mover's frame and the length swept, so each such case is swept once and its answer reused
-// (rounded to a nanometre, far below the sweep's own tolerance).
-struct Sweep {
-  Sweep(const Assembly& a, const collision::CollisionWorld& w, const std::vector<Eigen::Isometry3d>& h, const SequenceOptions& options)
+// (rounded to a nanometre, far below the check's own tolerance).
+struct PairChecks {
+  PairChecks(const Assembly& a, const collision::CollisionWorld& w, const std::vector<Eigen::Isometry3d>& h, const SequenceOptions& options)
       : assembly(a), world(w), home(h) {
     toi.tolerance = options.tolerance;
     toi.maxStep = options.maxStep;
@@ -106,13 +106,13 @@ struct Sweep {
     auto operator<=>(const Case&) const = default;
   };
   std::map<Case, std::optional<double>> decided;  // the block's distance (none: free); undecided not kept
-  std::map<Case, collision::MotionEvent> swept;    // by sweepAhead, not yet taken by block()
-  std::mutex deciding;                             // guards `decided` and `swept`
+  std::map<Case, collision::MotionEvent> ahead;    // by runAhead, not yet taken by block()
+  std::mutex deciding;                             // guards `decided` and `ahead`
 
-  // How far a sweep of `mover` past `obstacle` goes, and its case; none when it cannot block. Only as far as
+  // How far a check of `mover` past `obstacle` goes, and its case; none when it cannot block. Only as far as
   // the obstacle can be met: until the trailing side passes its leading side. An obstacle no farther ahead
   // than the tolerance is behind the mover: at most touching it (a nut under the plate it is screwed
-  // against, moved down), it cannot block, and the sweep of such a pair in contact was among the costliest
+  // against, moved down), it cannot block, and the check of such a pair in contact was among the costliest
   // there are (a third of a thousand-part product's order).
   struct Planned {
     double length;
@@ -120,13 +120,13 @@ struct Sweep {
   };
   [[nodiscard]] std::optional<Planned> plan(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double whole) const {
     const Eigen::AlignedBox3d box = world.worldBounds(ObjectId::part(mover));
-    const double ahead = extentAlong(world.worldBounds(ObjectId::part(obstacle)), out).second - extentAlong(box, out).first;
-    if (ahead <= toi.tolerance) return std::nullopt;
-    const double length = std::min(ahead + 2.0 * toi.tolerance, whole);
+    const double gap = extentAlong(world.worldBounds(ObjectId::part(obstacle)), out).second - extentAlong(box, out).first;
+    if (gap <= toi.tolerance) return std::nullopt;
+    const double length = std::min(gap + 2.0 * toi.tolerance, whole);
     return Planned{length, caseOf(mover, obstacle, out, alongAxis, length)};
   }
 
-  [[nodiscard]] collision::MotionEvent sweep(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double length) const {
+  [[nodiscard]] collision::MotionEvent run(PartId mover, PartId obstacle, const Eigen::Vector3d& out, bool alongAxis, double length) const {
     return collision::firstBlockBy(world, ObjectId::part(mover), ObjectId::part(obstacle), collision::translation(home[mover], out, length),
                                    alongAxis ? collision::FilterMode::SkipCoaxial : collision::FilterMode::SkipCoplanar, toi);
   }
@@ -135,7 +135,7 @@ struct Sweep {
     const std::optional<Planned> planned = plan(mover, obstacle, out, alongAxis, whole);
     if (!planned) return std::nullopt;
     const std::optional<Case>& key = planned->key;
-    std::optional<collision::MotionEvent> ahead;
+    std::optional<collision::MotionEvent> done;
     if (key) {
       const std::lock_guard<std::mutex> lock(deciding);
       if (const auto it = decided.find(*key); it != decided.end()) {
@@ -143,12 +143,12 @@ struct Sweep {
         if (!it->second) return std::nullopt;
         return Blocker{obstacle, *it->second, false};
       }
-      if (const auto it = swept.find(*key); it != swept.end()) {
-        ahead = it->second;
-        swept.erase(it);
+      if (const auto it = ahead.find(*key); it != ahead.end()) {
+        done = it->second;
+        ahead.erase(it);
       }
     }
-    const collision::MotionEvent ev = ahead ? *ahead : sweep(mover, obstacle, out, alongAxis, planned->length);
+    const collision::MotionEvent ev = done ? *done : run(mover, obstacle, out, alongAxis, planned->length);
     ++runs;
     evaluations += ev.evaluations;
     if (ev.undecided) {
@@ -175,20 +175,20 @@ struct Sweep {
     bool alongAxis;
     double whole;
   };
-  void sweepAhead(const std::vector<Call>& calls, const std::function<bool(double)>& report) {
+  void runAhead(const std::vector<Call>& calls, const std::function<bool(double)>& report) {
     std::vector<std::pair<const Call*, Planned>> todo;
     std::set<Case> met;
     for (const Call& c : calls)
       if (auto planned = plan(c.mover, c.obstacle, c.out, c.alongAxis, c.whole);
-          planned && planned->key && !decided.count(*planned->key) && !swept.count(*planned->key) && met.insert(*planned->key).second)
+          planned && planned->key && !decided.count(*planned->key) && !ahead.count(*planned->key) && met.insert(*planned->key).second)
         todo.emplace_back(&c, std::move(*planned));
     std::vector<collision::MotionEvent> events(todo.size());
     vaw::detail::onCores(todo.size(), [&](std::size_t k, bool onCaller) {
       if (onCaller && report && !report(static_cast<double>(k) / static_cast<double>(todo.size()))) throw LoadCancelled();
       const Call& c = *todo[k].first;
-      events[k] = sweep(c.mover, c.obstacle, c.out, c.alongAxis, todo[k].second.length);
+      events[k] = run(c.mover, c.obstacle, c.out, c.alongAxis, todo[k].second.length);
     });
-    for (std::size_t k = 0; k < todo.size(); ++k) swept.emplace(*todo[k].second.key, events[k]);
+    for (std::size_t k = 0; k < todo.size(); ++k) ahead.emplace(*todo[k].second.key, events[k]);
   }
 
   // None for parts without a shape of their own (none in a loaded assembly): those are always swept.
@@ -203,7 +203,7 @@ struct Sweep {
 }  // namespace
 
 std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
-                                                           const SequenceOptions& options, int* sweeps, const PairProgress& progress) {
+                                                           const SequenceOptions& options, int* pairChecks, const PairProgress& progress) {
   std::vector<std::pair<PartId, PartId>> out;
   if (!assembly.base || home.size() != assembly.parts.size()) return out;
   const PartId base = *assembly.base;
@@ -244,7 +244,7 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   const collision::CollisionWorld world(together);
   Eigen::AlignedBox3d all;
   for (PartId p = 0; p < n; ++p) all.extend(world.worldBounds(ObjectId::part(p)));
-  Sweep sweep(assembly, world, home, options);
+  PairChecks checks(assembly, world, home, options);
   const auto whole = [&](PartId p, const Eigen::Vector3d& d) {
     return extentAlong(all, d).second - extentAlong(world.worldBounds(ObjectId::part(p)), d).first + 2.0 * options.tolerance;
   };
@@ -257,19 +257,19 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
       if (baseBlocks[p].empty()) baseBlocks[p].assign(ways[p].size(), -1);
       if (baseBlocks[p][k] >= 0) return baseBlocks[p][k] == 1;
     }
-    const bool b = sweep.block(p, base, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out)).has_value();
+    const bool b = checks.block(p, base, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out)).has_value();
     const std::lock_guard<std::mutex> lock(baseLock);
     baseBlocks[p][k] = b ? 1 : 0;
     return b;
   };
   // True when every way `p` has past the base is blocked by `q` in place (every way at all, when the base
-  // blocks them all): p must come before q. The short sweeps against q come first; the base's only where
+  // blocks them all): p must come before q. The short checks against q come first; the base's only where
   // they leave the answer open.
   const auto needsAbsent = [&](PartId p, PartId q) {
     if (ways[p].empty()) return false;
     std::vector<std::size_t> byQ;
     for (std::size_t k = 0; k < ways[p].size(); ++k) {
-      if (sweep.block(p, q, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out))) byQ.push_back(k);
+      if (checks.block(p, q, ways[p][k].out, ways[p][k].axis, whole(p, ways[p][k].out))) byQ.push_back(k);
       else if (!blockedByBase(p, k)) return false;  // a way out past both
     }
     if (byQ.size() == ways[p].size()) return true;
@@ -296,7 +296,7 @@ std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assem
   });
   for (std::size_t i = 0; i < pairs.size(); ++i)
     if (first[i]) out.push_back(pairs[i].second);
-  if (sweeps) *sweeps = sweep.runs;
+  if (pairChecks) *pairChecks = checks.runs;
   return out;
 }
 
@@ -381,11 +381,11 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
   for (PartId p = 0; p < n; ++p)
     if (inSequence[p]) all.extend(world.worldBounds(ObjectId::part(p)));
 
-  Sweep sweep(assembly, world, home, options);
+  PairChecks checks(assembly, world, home, options);
   // Two parts that share volume at home beyond a designed fit (a modelling error: a dowel drawn larger than
   // its hole) would each block the other at once in every way. Each comes home through the other along the
   // ways its constraints give it, and the way says so. Asked only of a pair blocked where it stands (a
-  // sweep's distance 0): parts that only touch there are blocked a tolerance on, if at all.
+  // check's distance 0): parts that only touch there are blocked a tolerance on, if at all.
   std::map<std::pair<PartId, PartId>, bool> clashing;
   const auto clash = [&](PartId p, PartId q) {
     const auto key = std::minmax(p, q);
@@ -402,7 +402,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
   // passed the assembly's leading side); those pairs swept ahead on every core, then each way's blockers
   // read in order.
   std::vector<std::vector<std::vector<PartId>>> met;  // per check, per way
-  std::vector<Sweep::Call> calls;
+  std::vector<PairChecks::Call> calls;
   for (PartId p = 0; p < n; ++p) {
     if (p == base || !inSequence[p]) continue;
     PartCheck check;
@@ -424,7 +424,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
     plan.checks.push_back(std::move(check));
   }
   const std::string stage = "ways home: " + std::to_string(calls.size()) + " ways past the parts on them";
-  sweep.sweepAhead(calls, [&](double f) { return !progress || progress(0.9 * f, stage); });
+  checks.runAhead(calls, [&](double f) { return !progress || progress(0.9 * f, stage); });
   for (std::size_t i = 0; i < plan.checks.size(); ++i) {
     PartCheck& check = plan.checks[i];
     if (progress && !progress(0.9 + 0.1 * static_cast<double>(i) / static_cast<double>(plan.checks.size()),
@@ -433,7 +433,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
     for (std::size_t k = 0; k < check.directions.size(); ++k) {
       Direction& d = check.directions[k];
       for (const PartId o : met[i][k])
-        if (const auto b = sweep.block(check.part, o, d.out, d.alongAxis, d.length)) d.blockers.push_back(*b);
+        if (const auto b = checks.block(check.part, o, d.out, d.alongAxis, d.length)) d.blockers.push_back(*b);
     }
   }
   // The pairs blocked where they stand along a constraint's way are asked whether they clash, on every core;
@@ -471,10 +471,10 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
       std::sort(d.blockers.begin(), d.blockers.end(),
                 [](const Blocker& x, const Blocker& y) { return x.distance != y.distance ? x.distance < y.distance : x.by < y.by; });
     }
-  plan.sweeps = sweep.runs;
-  plan.reused = sweep.reused;
-  plan.evaluations = sweep.evaluations;
-  plan.undecided = sweep.undecided;
+  plan.pairChecks = checks.runs;
+  plan.reused = checks.reused;
+  plan.evaluations = checks.evaluations;
+  plan.undecided = checks.undecided;
 
   // Partners: every part a part is constrained to must be in place before it.
   std::vector<std::set<PartId>> partners(n);
@@ -547,7 +547,7 @@ SequencePlan planSequence(const Assembly& assembly, const collision::CollisionWo
             if (o.kind != ObjectId::Kind::Part || !in[o.index] || member[o.index]) continue;
             // Along an axis: a bearing carried up its bore slides on it (touching faces across the way are
             // dropped either way).
-            const auto b = sweep.block(m, o.index, out, true, length);
+            const auto b = checks.block(m, o.index, out, true, length);
             if (!b || (options.throughClashes && !b->undecided && b->distance <= 0.0 && clash(m, o.index))) continue;
             if (o.index == base || stuck[o.index]) ok = false;
             else join(o.index);

@@ -274,7 +274,7 @@ class CollisionWorld {
   // obstacle's triangle nowhere ahead of the mover's). Infinite when nothing can meet; distance() for
   // primitives. `atMost`: a caller that moves no farther needs no more; any distance from it on is
   // returned as `atMost`, which lets the search drop everything farther at once.
-  [[nodiscard]] double sweepDistance(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
+  [[nodiscard]] double distanceAlong(ObjectId a, const Eigen::Isometry3d& poseA, ObjectId b, FilterMode mode,
                                      const Eigen::Vector3d& direction,
                                      double atMost = std::numeric_limits<double>::infinity()) const;
 

@@ -90,7 +90,7 @@ struct SequencePlan {
   };
   std::vector<Wrap> wraps;
   [[nodiscard]] const Wrap* wrapOf(PartId p) const;
-  int sweeps = 0;                       // pair sweeps run
+  int pairChecks = 0;                   // a part moved along a way past another: the checks run
   int reused = 0;                       // pair sweeps answered by an earlier one of the same shapes, placed alike
   int undecided = 0;                    // of them, those that ran out of their iteration limit
   int evaluations = 0;                  // distance and blocked checks in them
@@ -126,7 +126,7 @@ std::string travelText(const Eigen::Vector3d& out);
 // each blocks the other keep the partner they have. `sweeps` counts the pair sweeps run. `progress` is
 // asked before each pair; false stops with LoadCancelled.
 std::vector<std::pair<PartId, PartId>> geometricPrecedence(const Assembly& assembly, const std::vector<Eigen::Isometry3d>& home,
-                                                           const SequenceOptions& options = {}, int* sweeps = nullptr,
+                                                           const SequenceOptions& options = {}, int* pairChecks = nullptr,
                                                            const PairProgress& progress = {});
 
 // The interval a box covers along a unit direction: where a part's box starts and ends along its way.
