@@ -250,7 +250,7 @@ void SequenceDock::showIdle() {
   find_->setEnabled(loaded && !finding());
   progress_->hide();
   if (!plan_)
-    hint_->setText(loaded ? tr("Find Order sweeps every part's way home and finds an order that puts the assembly together.")
+    hint_->setText(loaded ? tr("Find Order moves every part home along its ways and finds an order that puts the assembly together.")
                           : tr("Open an assembly to find its order."));
 }
 
