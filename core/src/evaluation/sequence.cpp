@@ -176,19 +176,19 @@ struct PairChecks {
     double whole;
   };
   void runAhead(const std::vector<Call>& calls, const std::function<bool(double)>& report) {
-    std::vector<std::pair<const Call*, Planned>> todo;
+    std::vector<std::pair<const Call*, Planned>> pending;
     std::set<Case> met;
     for (const Call& c : calls)
       if (auto planned = plan(c.mover, c.obstacle, c.out, c.alongAxis, c.whole);
           planned && planned->key && !decided.count(*planned->key) && !ahead.count(*planned->key) && met.insert(*planned->key).second)
-        todo.emplace_back(&c, std::move(*planned));
-    std::vector<collision::MotionEvent> events(todo.size());
-    vaw::detail::onCores(todo.size(), [&](std::size_t k, bool onCaller) {
-      if (onCaller && report && !report(static_cast<double>(k) / static_cast<double>(todo.size()))) throw LoadCancelled();
-      const Call& c = *todo[k].first;
-      events[k] = run(c.mover, c.obstacle, c.out, c.alongAxis, todo[k].second.length);
+        pending.emplace_back(&c, std::move(*planned));
+    std::vector<collision::MotionEvent> events(pending.size());
+    vaw::detail::onCores(pending.size(), [&](std::size_t k, bool onCaller) {
+      if (onCaller && report && !report(static_cast<double>(k) / static_cast<double>(pending.size()))) throw LoadCancelled();
+      const Call& c = *pending[k].first;
+      events[k] = run(c.mover, c.obstacle, c.out, c.alongAxis, pending[k].second.length);
     });
-    for (std::size_t k = 0; k < todo.size(); ++k) ahead.emplace(*todo[k].second.key, events[k]);
+    for (std::size_t k = 0; k < pending.size(); ++k) ahead.emplace(*pending[k].second.key, events[k]);
   }
 
   // None for parts without a shape of their own (none in a loaded assembly): those are always swept.
