@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "directory_lock.hpp"
+#include "session_scene.hpp"
 #include "vaw/atomic_file.hpp"
 #include "vaw/error.hpp"
 #include "vaw/evaluation/sequence.hpp"
@@ -53,11 +54,7 @@ struct Recorded {
 Recorded load(const ClearanceArgs& args, const ImporterRegistry& importers) {
   Recorded r;
   r.session = sim::loadSession(args.session);
-  // The scene as recorded: as given, else beside the session file.
-  r.sceneFile = resolveScenePath(r.session.scene);
-  std::error_code ec;
-  if (!std::filesystem::exists(r.sceneFile, ec) && std::filesystem::path(r.session.scene).is_relative())
-    r.sceneFile = std::filesystem::path(args.session).parent_path() / r.session.scene;
+  r.sceneFile = sessionSceneFile(r.session, args.session);
   r.scene = sim::Scene::build(loadAny(r.sceneFile, importers));
   sim::checkScene(r.session, *r.scene);
   const auto part = r.scene->assembly().findPart(args.part);

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <system_error>
 
+#include "session_scene.hpp"
 #include "vaw/error.hpp"
 #include "vaw/evaluation/sequence.hpp"
 #include "vaw/importer.hpp"
@@ -31,12 +32,7 @@ int exportGltf(const ExportArgs& args) {
   if (in.ends_with(".vaw-session.json")) {
     if (args.order) fail(in, "--order", "a scene, STEP or mesh file (a session plays what was recorded)", "a session");
     const sim::Session session = sim::loadSession(in);
-    // The scene as recorded: as given, else beside the session file.
-    std::filesystem::path sceneFile = resolveScenePath(session.scene);
-    std::error_code ec;
-    if (!std::filesystem::exists(sceneFile, ec) && std::filesystem::path(session.scene).is_relative())
-      sceneFile = std::filesystem::path(in).parent_path() / session.scene;
-    scene = sim::Scene::build(loadAny(sceneFile, importers));
+    scene = sim::Scene::build(loadAny(sessionSceneFile(session, in), importers));
     sim::checkScene(session, *scene);
     motion = report::sessionMotion(scene, session, args.rate);
   } else {

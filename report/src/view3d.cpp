@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "picture.hpp"
 #include "vaw/report/gltf.hpp"
 
 namespace vaw::report {
@@ -19,21 +20,6 @@ std::string readAll(const std::filesystem::path& file) {
   std::ostringstream all;
   all << in.rdbuf();
   return std::move(all).str();
-}
-
-std::string base64(const std::vector<std::uint8_t>& bytes) {
-  static constexpr char kDigits[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::uint32_t n = (std::uint32_t{bytes[i]} << 16) | (i + 1 < bytes.size() ? std::uint32_t{bytes[i + 1]} << 8 : 0u) |
-                            (i + 2 < bytes.size() ? std::uint32_t{bytes[i + 2]} : 0u);
-    out += kDigits[(n >> 18) & 63];
-    out += kDigits[(n >> 12) & 63];
-    out += i + 1 < bytes.size() ? kDigits[(n >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? kDigits[n & 63] : '=';
-  }
-  return out;
 }
 
 // A script's text safe inside <script>: no "</" that would end the element early.
@@ -271,7 +257,7 @@ std::string orderView(const Assembly& a, const eval::SequencePlan& plan) {
       "' style='width:50%'> <span id='view3d-label'></span> <label><input type='checkbox' id='view3d-exploded'> "
       "exploded</label></p>\n";
   h += "<script type='application/json' id='view3d-data'>" + scriptText(data.dump()) + "</script>\n";
-  h += "<script type='application/octet-stream' id='view3d-glb'>" + base64(bytes) + "</script>\n";
+  h += "<script type='application/octet-stream' id='view3d-glb'>" + detail::base64(std::string(bytes.begin(), bytes.end())) + "</script>\n";
   h += "<script>" + scriptText(three) + "</script>\n<script>" + scriptText(loader) + "</script>\n<script>" +
        scriptText(controls) + "</script>\n<script>" + scriptText(kViewScript) + "</script>\n";
   return h;
