@@ -194,7 +194,7 @@ class SweptFiles {
   const SolidExporter* step_;
 };
 
-nlohmann::json sweptJson(const sim::SweptVolume& sv, double voxelMm, const Assembly& a, bool step) {
+nlohmann::json sweptJson(const SweptVolume& sv, double voxelMm, const Assembly& a, bool step) {
   const Eigen::AlignedBox3d bounds = sv.mesh.bounds();
   return {{"voxel_mm", voxelMm},
           {"relative_to_base", sv.relativeToBase},

@@ -173,7 +173,7 @@ void BM_SweptVolumeTenSecondsLargeGearbox(benchmark::State& state) {
   const vaw::sim::Session session = carriedGear(*scene, gear);
   vaw::sim::SweptVolumeOptions options;
   options.voxel = 1e-6 * static_cast<double>(state.range(0));
-  vaw::sim::SweptVolume sv;
+  vaw::SweptVolume sv;
   for (auto _ : state) {
     sv = vaw::sim::sweptVolume(scene, session, gear, options);
     benchmark::DoNotOptimize(sv.volume);
@@ -192,7 +192,7 @@ void BM_SweptVolumeAsStepLargeGearbox(benchmark::State& state) {
   Eigen::Vector3d unused;
   const auto scene = vaw::sim::Scene::build(gearbox(unused));
   const vaw::PartId gear = *scene->assembly().findPart("gear-a1");
-  const vaw::sim::SweptVolume sv = vaw::sim::sweptVolume(scene, carriedGear(*scene, gear), gear);
+  const vaw::SweptVolume sv = vaw::sim::sweptVolume(scene, carriedGear(*scene, gear), gear);
   const vaw::SolidExporter* step = importers().exporterFor("swept.step");
   if (step == nullptr) {
     state.SkipWithError("no STEP plugin in " VAW_BUILD_PLUGIN_DIR);

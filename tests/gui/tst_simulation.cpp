@@ -818,7 +818,7 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   QVERIFY(path->working());
   QVERIFY(done.wait(60000));
   QVERIFY2(path->swept() != nullptr, qPrintable(path->summary()->text()));
-  const vaw::sim::SweptVolume& sv = *path->swept();
+  const vaw::SweptVolume& sv = *path->swept();
   const vaw::sim::ClearanceReport& cr = *path->clearance();
   // It holds the sleeve's own volume, and the points of its mesh where the carry began.
   QVERIFY(sv.volume > vaw::massPropertiesFromMesh(*assembly().parts[sleeve].mesh, 1.0).mass);

@@ -240,6 +240,35 @@ TEST(SweptVolume, TheStlExportReadsBackAsOneSolidOfTheSameVolume) {
   EXPECT_NEAR((back.parts[0].pose * back.parts[0].mesh->bounds().min() - sv.mesh.bounds().min()).norm(), 0.0, 1e-6);
 }
 
+// The surface is each plane's voxel faces merged into rectangles: it covers exactly the faces between
+// occupied and empty voxels (its area is theirs), in well under the two triangles a face would take, and
+// is still closed without T-junctions (a corner inside another triangle's edge would leave that edge with
+// one side only, which expectClosedAndWhole refuses).
+TEST(SweptVolume, TheSurfaceMergesEachPlanesFacesWithoutTJunctions) {
+  const double h = 0.001;
+  const SweptVolume sv = sweep(primitives::sphere(0.005, 32, 16), {{at(0, 0, 0), at(0.040, 0, 0), at(0.040, 0.040, 0.010)}}, h);
+  const std::size_t rowWords = (static_cast<std::size_t>(sv.dims.x()) + 63) / 64;
+  const auto filled = [&](int x, int y, int z) {
+    if (x < 0 || y < 0 || z < 0 || x >= sv.dims.x() || y >= sv.dims.y() || z >= sv.dims.z()) return false;
+    return ((sv.occupied[(static_cast<std::size_t>(z) * sv.dims.y() + y) * rowWords + x / 64] >> (x % 64)) & 1U) != 0;
+  };
+  std::size_t faces = 0;
+  for (int z = 0; z < sv.dims.z(); ++z)
+    for (int y = 0; y < sv.dims.y(); ++y)
+      for (int x = 0; x < sv.dims.x(); ++x)
+        if (filled(x, y, z))
+          faces += !filled(x + 1, y, z) + !filled(x - 1, y, z) + !filled(x, y + 1, z) + !filled(x, y - 1, z) + !filled(x, y, z + 1) + !filled(x, y, z - 1);
+  double area = 0.0;
+  for (const auto& t : sv.mesh.triangles)
+    area += 0.5 * (sv.mesh.vertices[t[1]] - sv.mesh.vertices[t[0]]).cross(sv.mesh.vertices[t[2]] - sv.mesh.vertices[t[0]]).norm();
+  EXPECT_NEAR(area, static_cast<double>(faces) * h * h, 1e-9 * area);
+  EXPECT_LT(sv.mesh.triangles.size(), faces / 2) << "fewer than a quarter of two triangles a voxel face";
+  expectClosedAndWhole(sv);
+  // The same grid gives the same surface.
+  const TriMesh again = sv.surface();
+  EXPECT_EQ(again.triangles, sv.mesh.triangles);
+}
+
 TEST(SweptVolume, BadInputIsRefusedWithWhatWasExpected) {
   const TriMesh box = primitives::box({0.01, 0.01, 0.01});
   EXPECT_THROW(sweep(box, {{at(0, 0, 0)}}, 0.0), std::invalid_argument);

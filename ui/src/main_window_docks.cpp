@@ -245,7 +245,7 @@ void MainWindow::showViewportMenu(const QPoint& windowPos) {
 
 void MainWindow::showSwept() {
   const auto shown = partDock_->model()->part();
-  const vaw::sim::SweptVolume* sv = pathDock_->swept();
+  const vaw::SweptVolume* sv = pathDock_->swept();
   if (sv == nullptr || !shown || pathDock_->resultPart() != shown) {
     partDock_->model()->setSwept({});
     return;

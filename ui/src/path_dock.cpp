@@ -295,7 +295,7 @@ void PathDock::finished() {
 }
 
 void PathDock::showResult() {
-  const vaw::sim::SweptVolume& sv = result_->swept;
+  const vaw::SweptVolume& sv = result_->swept;
   const vaw::sim::ClearanceReport& cr = result_->clearance;
   const vaw::Assembly& a = result_->scene->assembly();
   QString text = tr("%1 swept %2 cm³ (%3 voxels of %4 mm, t %5 to %6 s)")

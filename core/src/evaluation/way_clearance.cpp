@@ -9,6 +9,7 @@
 
 #include "vaw/collision/collision_world.hpp"
 #include "vaw/error.hpp"
+#include "vaw/sim/swept_volume.hpp"
 #include "case_key.hpp"
 
 namespace vaw::eval {
@@ -187,7 +188,7 @@ std::vector<WayClearance> wayClearances(const Assembly& assembly, const Sequence
       Eigen::Isometry3d start = home[p];
       start.pretranslate(d.length * d.out);
       try {
-        w.swept = sim::sweep(*assembly.parts[p].mesh, {{start, home[p]}}, options.voxel, sim::kMaxSweepVoxels, sim::tessellationSag(assembly.parts[p]));
+        w.swept = sweep(*assembly.parts[p].mesh, {{start, home[p]}}, options.voxel, kMaxSweepVoxels, sim::tessellationSag(assembly.parts[p]));
         w.swept->mesh = TriMesh();
       } catch (const std::invalid_argument& e) {
         fail(file, "voxel", "a grid vaw can hold for " + assembly.parts[p].name + "'s way home", e.what());

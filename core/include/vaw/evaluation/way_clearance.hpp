@@ -16,7 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "vaw/evaluation/sequence.hpp"
-#include "vaw/sim/swept_volume.hpp"
+#include "vaw/swept_volume.hpp"
 
 namespace vaw::eval {
 
@@ -49,7 +49,7 @@ struct WayClearance {
   std::vector<WayObject> objects;
   // The way's swept volume, when a voxel was given: its grid and volume, without its mesh (surface() makes
   // it again; a thousand ways' meshes held at once took 410 MB).
-  std::optional<sim::SweptVolume> swept;
+  std::optional<SweptVolume> swept;
 
   // The nearest part it passes, or nullptr when none comes within reach.
   [[nodiscard]] const WayObject* nearest() const { return objects.empty() ? nullptr : &objects.front(); }

@@ -56,7 +56,7 @@ class PathDock : public QDockWidget {
   [[nodiscard]] QScatterSeries* nearSeries() const { return near_; }
   [[nodiscard]] bool working() const { return working_; }
   // The last result, for the part it was computed for (none before the first, or after a new scene).
-  [[nodiscard]] const vaw::sim::SweptVolume* swept() const { return result_ ? &result_->swept : nullptr; }
+  [[nodiscard]] const vaw::SweptVolume* swept() const { return result_ ? &result_->swept : nullptr; }
   [[nodiscard]] const vaw::sim::ClearanceReport* clearance() const { return result_ ? &result_->clearance : nullptr; }
   [[nodiscard]] std::optional<vaw::PartId> resultPart() const { return result_ ? std::optional(result_->part) : std::nullopt; }
 
@@ -84,7 +84,7 @@ class PathDock : public QDockWidget {
   struct Result {
     std::shared_ptr<const vaw::sim::Scene> scene;
     vaw::PartId part = 0;
-    vaw::sim::SweptVolume swept;
+    vaw::SweptVolume swept;
     vaw::sim::ClearanceReport clearance;
     QString error;
     unsigned generation = 0;  // the world it was computed in
