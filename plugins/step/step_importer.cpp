@@ -343,7 +343,7 @@ class StepImporter final : public vaw::MeshImporter {
 // failed write leaves what was there.
 class StepExporter final : public vaw::SolidExporter {
  public:
-  [[nodiscard]] std::string name() const override { return "Open CASCADE STEP"; }
+  [[nodiscard]] std::string name() const override { return "STEP (AP214 B-rep)"; }
   [[nodiscard]] std::vector<std::string> extensions() const override { return {"step", "stp"}; }
   void write(const vaw::TriMesh& mesh, const std::string& solidName, vaw::LengthUnit unit, const std::filesystem::path& file,
              const vaw::ExportOptions& options, const vaw::ProgressFn& progress) const override {
