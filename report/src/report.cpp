@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -403,18 +404,19 @@ OverlapSection overlapSection(const Assembly& a, const std::vector<collision::In
   return s;
 }
 
-ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
-                        const std::filesystem::path& dir, const ProgressFn& progress, const WaysHome* waysHome,
-                        const std::vector<collision::Interference>* overlaps) {
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw OutputError(dir.string() + ": cannot create the report folder: " + ec.message());
-  const std::vector<PartRow> rows = partRows(a, plan, sessions);
-  const bool withSessions = !sessions.empty();
-  auto spreadCell = [](const Spread& s) { return s.n > 0 ? formatNumber(s.mean) : std::string(); };
-  auto sdCell = [](const Spread& s) { return s.n > 1 ? formatNumber(s.sd) : std::string(); };
+namespace {
 
-  // parts.csv: the parts table.
+std::string spreadCell(const Spread& s) { return s.n > 0 ? formatNumber(s.mean) : std::string(); }
+std::string sdCell(const Spread& s) { return s.n > 1 ? formatNumber(s.sd) : std::string(); }
+
+std::string namesOf(const Assembly& a, const std::vector<PartId>& parts) {
+  std::string out;
+  for (const PartId q : parts) out += (out.empty() ? "" : " ") + a.parts[q].name;
+  return out;
+}
+
+// parts.csv: the parts table.
+std::string partsCsv(const std::vector<PartRow>& rows) {
   std::string partsCsv =
       "part,step,comes_home,blocked_by,handling_code,insertion_code,handling_s,insertion_s,estimate_s,estimate_is_lower_bound,sessions,"
       "placed_in,time_to_place_mean_s,time_to_place_sd_s,grabs_mean,drops_mean,refusals_mean,carried_mean_m,held_by\n";
@@ -427,7 +429,11 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                 spreadCell(r.timeToPlace) + "," + sdCell(r.timeToPlace) + "," + spreadCell(r.grabs) + "," + spreadCell(r.drops) + "," +
                 spreadCell(r.refusals) + "," + spreadCell(r.carried) + "," + csv(r.hands) + "\n";
   }
-  // sequence.csv: the order with what each step rests on.
+  return partsCsv;
+}
+
+// sequence.csv: the order with what each step rests on.
+std::string sequenceCsv(const Assembly& a, const SequencePlan& plan) {
   std::string sequenceCsv = "position,step,part,comes_home,after\n";
   for (std::size_t i = 0; i < plan.order.size(); ++i) {
     const PartId p = plan.order[i];
@@ -439,7 +445,11 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
     sequenceCsv += std::to_string(i) + "," + std::to_string(plan.step[i]) + "," + csv(a.parts[p].name) + "," +
                    csv(way ? travelText(way->out) + ": " + way->from : std::string()) + "," + csv(after) + "\n";
   }
-  // sessions.csv: every part in every session.
+  return sequenceCsv;
+}
+
+// sessions.csv: every part in every session.
+std::string sessionsCsv(const std::vector<SessionStats>& sessions) {
   std::string sessionsCsv = "session,part,first_handled_s,placed_s,time_to_place_s,grabs,tool_lifts,drops,refusals,blocked,carried_m,held_by\n";
   for (const auto& s : sessions)
     for (const auto& p : s.parts)
@@ -448,8 +458,12 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                      std::to_string(p.grabs) + "," + std::to_string(p.toolLifts) + "," + std::to_string(p.drops) + "," +
                      std::to_string(p.refusals.size()) + "," + std::to_string(p.blocked.size()) + "," + formatNumber(p.carried_m) + "," +
                      csv(p.holders()) + "\n";
+  return sessionsCsv;
+}
 
-  // evaluation.json: everything, as numbers.
+// evaluation.json: everything, as numbers (the ways and the interferences are added where they are found).
+json evaluationJson(const Assembly& a, const SequencePlan& plan, const std::vector<PartRow>& rows, const std::vector<SessionStats>& sessions) {
+  const bool withSessions = !sessions.empty();
   json j;
   j["assembly"] = a.name;
   j["complete"] = plan.complete();
@@ -484,14 +498,12 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                   {"refusals", s.refusals}, {"blocked", s.blocked}, {"carried_m", s.carried_m}, {"parts", parts}});
   }
   j["sessions"] = js;
+  return j;
+}
 
-  // ways.csv and evaluation.json's "ways": each way home's nearest pass, in the order.
+// ways.csv: each way home's nearest pass, in the order.
+std::string waysCsv(const Assembly& a, const SequencePlan& plan, const WaysHome* waysHome) {
   const double threshold = waysHome ? waysHome->options.threshold : 0.0;
-  const auto namesOf = [&](const std::vector<PartId>& parts) {
-    std::string out;
-    for (const PartId q : parts) out += (out.empty() ? "" : " ") + a.parts[q].name;
-    return out;
-  };
   std::string waysCsv =
       "part,comes_home,length_mm,slides_on,rests_on,nearest,least_mm,at_mm,near_miss,swept_cm3,nearest_on_part_mm,nearest_on_other_mm\n";
   if (waysHome) {
@@ -500,15 +512,17 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
       const Direction* way = plan.wayOf(w.part);
       const eval::WayObject* n = w.nearest();
       waysCsv += csv(a.parts[w.part].name) + "," + csv(way ? travelText(way->out) + ": " + way->from : std::string()) + "," +
-                 formatNumber(1e3 * w.length) + "," + csv(namesOf(w.guides)) + "," + csv(namesOf(w.seatedOn)) + "," +
+                 formatNumber(1e3 * w.length) + "," + csv(namesOf(a, w.guides)) + "," + csv(namesOf(a, w.seatedOn)) + "," +
                  (n ? csv(a.parts[n->part].name) + "," + formatNumber(1e3 * n->least) + "," + formatNumber(1e3 * n->at) : std::string(",,")) + "," +
                  (w.nearMiss(threshold) ? "yes" : "no") + "," + (w.swept ? formatNumber(1e6 * w.swept->volume) : std::string()) + "," +
                  (n ? point(n->onPart) + "," + point(n->onOther) : std::string(",")) + "\n";
     }
-    j["ways"] = waysJson(a, *waysHome);
   }
+  return waysCsv;
+}
 
-  // report.html.
+// report.html up to its 3D view: the style, the title and what the order comes to.
+std::string pageHead(const Assembly& a, const SequencePlan& plan) {
   std::string h = "<!DOCTYPE html>\n<html lang='en'><head><meta charset='utf-8'><title>" + html(a.name) +
                   ": assembly evaluation</title><style>"
                   "body{font-family:sans-serif;margin:24px;color:#222;max-width:1100px}"
@@ -516,15 +530,17 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
                   "th{background:#eef2f6;text-align:left}td.n{text-align:right}.stuck{color:#b22}tr.miss td{background:#fde9d9}"
                   "tr.sel td{background:#dbe7fb}.steps{display:flex;flex-wrap:wrap;gap:10px}.steps figure{margin:0;width:320px}figcaption{font-size:12px}"
                   "</style></head><body>\n";
-  const std::vector<Eigen::Isometry3d> home = eval::homePoses(a);
-  const Eigen::AlignedBox3d box = assembledBounds(a, plan, home);
   h += "<h1>" + html(a.name) + "</h1>\n<p>" +
        (plan.complete() ? "An order puts every part in place."
                         : std::to_string(plan.stuck.size()) + " part(s) can be put in place by no order (red in the picture).") +
        " " + std::to_string(plan.order.size()) + " parts in the order, base " + html(a.parts[*plan.base].name) + ".</p>\n";
-  h += orderView(a, plan);
+  return h;
+}
+
+std::string summaryTable(const Assembly& a, const SequencePlan& plan, const std::vector<PartRow>& rows,
+                         const std::vector<std::pair<std::size_t, std::size_t>>& runs) {
+  std::string h;
   // The steps first, one row each: what goes in, how, and what it costs by the estimate.
-  const auto runs = stepRuns(plan);
   std::map<PartId, double> estimate;
   for (const auto& r : rows) estimate[r.part] = r.estimate.total_s();
   h += "<h2>Summary</h2>\n<table id='summary'><tr><th>step</th><th>parts</th><th>which</th><th>comes home</th><th>estimate s</th></tr>\n";
@@ -547,33 +563,54 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   h += "<tr><th></th><th class='n'>" + std::to_string(plan.order.size()) + "</th><th>" +
        (plan.stuck.empty() ? std::string() : std::to_string(plan.stuck.size()) + " without an order") + "</th><th></th><th class='n'>" +
        formatNumber(total) + "</th></tr>\n</table>\n";
+  return h;
+}
 
-  // A picture per part up to a few dozen; beyond, one per step (every part it puts in, in colour).
-  constexpr std::size_t kPictures = 40;
-  const bool perStep = plan.order.size() > kPictures;
-  std::vector<std::pair<std::size_t, std::size_t>> shown;
-  if (perStep) shown.assign(runs.begin(), runs.begin() + static_cast<std::ptrdiff_t>(std::min(runs.size(), kPictures)));
-  else
-    for (std::size_t i = 0; i < plan.order.size(); ++i) shown.emplace_back(i, i + 1);
-  // The ways pictured: near misses first, then by least clearance, a few dozen at most.
-  std::vector<const eval::WayClearance*> pictured;
-  if (waysHome) {
-    for (const auto& w : waysHome->ways) pictured.push_back(&w);
-    std::stable_sort(pictured.begin(), pictured.end(), [](const eval::WayClearance* x, const eval::WayClearance* y) {
-      const double lx = x->objects.empty() ? std::numeric_limits<double>::infinity() : x->objects.front().least;
-      const double ly = y->objects.empty() ? std::numeric_limits<double>::infinity() : y->objects.front().least;
-      return lx < ly;
-    });
-    pictured.resize(std::min(pictured.size(), kPictures));
+// The parts no order puts in, each way home with what blocks it.
+std::string stuckTable(const Assembly& a, const SequencePlan& plan) {
+  std::string h;
+  if (!plan.complete()) {
+    h += "<h2 class='stuck'>No order puts these in place</h2>\n<table id='stuck'><tr><th>part</th><th>way home</th><th>blocked by</th></tr>\n";
+    for (const auto& s : plan.stuck) {
+      const PartCheck* c = plan.checkOf(s.part);
+      if (!s.waitsFor.empty() || !c) {
+        std::string names;
+        for (const PartId w : s.waitsFor) names += (names.empty() ? "" : ", ") + a.parts[w].name;
+        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>its partner first</td><td>" + html(names) + "</td></tr>\n";
+        continue;
+      }
+      for (std::size_t k = 0; k < c->directions.size(); ++k) {
+        std::string names;
+        for (const auto& b : c->directions[k].blockers)
+          names += (names.empty() ? "" : ", ") + a.parts[b.by].name + " after " + formatNumber(1e3 * b.distance) + " mm";
+        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>" + html(travelText(c->directions[k].out) + " (" + c->directions[k].from + ")") +
+             "</td><td>" + html(names) + "</td></tr>\n";
+      }
+    }
+    h += "</table>\n";
   }
-  const std::size_t pictures = shown.size() + 1 + pictured.size();
-  // A picture takes a fraction of a second; the caller may stop between two (nothing is written yet).
-  const auto drawn = [&](std::size_t count) {
-    if (progress && !progress(static_cast<double>(count) / static_cast<double>(pictures),
-                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(pictures)))
-      throw LoadCancelled();
-  };
-  drawn(0);
+  return h;
+}
+
+// The ways pictured: near misses first, then by least clearance, `most` at most.
+std::vector<const eval::WayClearance*> picturedWays(const WaysHome* waysHome, std::size_t most) {
+  std::vector<const eval::WayClearance*> pictured;
+  if (!waysHome) return pictured;
+  for (const auto& w : waysHome->ways) pictured.push_back(&w);
+  std::stable_sort(pictured.begin(), pictured.end(), [](const eval::WayClearance* x, const eval::WayClearance* y) {
+    const double lx = x->objects.empty() ? std::numeric_limits<double>::infinity() : x->objects.front().least;
+    const double ly = y->objects.empty() ? std::numeric_limits<double>::infinity() : y->objects.front().least;
+    return lx < ly;
+  });
+  pictured.resize(std::min(pictured.size(), most));
+  return pictured;
+}
+
+// The order's pictures: the assembly, then each shown part or step in its turn (`drawn` is told each one).
+std::string orderPictures(const Assembly& a, const SequencePlan& plan, const std::vector<Eigen::Isometry3d>& home, const Eigen::AlignedBox3d& box,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& runs, const std::vector<std::pair<std::size_t, std::size_t>>& shown,
+                          bool perStep, const std::function<void(std::size_t)>& drawn) {
+  std::string h;
   h += "<img alt='the assembly' width='640' height='440' src='" + picture(a, plan, home, box, std::nullopt, 640, 440) + "'>\n";
   h += "<h2>Order</h2>\n";
   if (perStep)
@@ -600,74 +637,59 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   h += "</div>\n";
   if (perStep && runs.size() > shown.size())
     h += "<p>Steps after " + std::to_string(plan.step[shown.back().first]) + " are in the tables only.</p>\n";
-  if (!plan.complete()) {
-    h += "<h2 class='stuck'>No order puts these in place</h2>\n<table id='stuck'><tr><th>part</th><th>way home</th><th>blocked by</th></tr>\n";
-    for (const auto& s : plan.stuck) {
-      const PartCheck* c = plan.checkOf(s.part);
-      if (!s.waitsFor.empty() || !c) {
-        std::string names;
-        for (const PartId w : s.waitsFor) names += (names.empty() ? "" : ", ") + a.parts[w].name;
-        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>its partner first</td><td>" + html(names) + "</td></tr>\n";
-        continue;
-      }
-      for (std::size_t k = 0; k < c->directions.size(); ++k) {
-        std::string names;
-        for (const auto& b : c->directions[k].blockers)
-          names += (names.empty() ? "" : ", ") + a.parts[b.by].name + " after " + formatNumber(1e3 * b.distance) + " mm";
-        h += "<tr><td>" + html(a.parts[s.part].name) + "</td><td>" + html(travelText(c->directions[k].out) + " (" + c->directions[k].from + ")") +
-             "</td><td>" + html(names) + "</td></tr>\n";
-      }
-    }
-    h += "</table>\n";
+  return h;
+}
+
+// The ways home: the table of nearest passes and the pictures of the nearest (`drawn` is told each picture).
+std::string waysSection(const Assembly& a, const SequencePlan& plan, const std::vector<Eigen::Isometry3d>& home, const WaysHome* waysHome,
+                        const std::vector<const eval::WayClearance*>& pictured, const std::function<void(std::size_t)>& drawn) {
+  const double threshold = waysHome->options.threshold;
+  std::string h;
+  std::size_t misses = 0;
+  for (const auto& w : waysHome->ways) misses += w.nearMiss(threshold) ? 1 : 0;
+  const auto mm = [](double m) { return formatNumber(1e3 * m); };
+  // Settings in the prose as people type them: "5 mm", "0.1 mm".
+  const auto setting = [](double m) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.4g", 1e3 * m);
+    return std::string(b);
+  };
+  h += "<h2>Ways home: clearance and space</h2>\n<p>Each part's way home in the order, walked from where it is clear of the assembly "
+       "to its place, past the parts already in: its least distance to each (found to within " + setting(waysHome->options.tolerance) +
+       " mm). A part closer than " + setting(threshold) + " mm to one it neither slides on nor rests on is a near miss, even when its way is free: " +
+       std::to_string(misses) + " of " + std::to_string(waysHome->ways.size()) + ". The parts it slides on (its inserts' partners along the way) "
+       "are left out; the parts it rests on count until the last " + setting(threshold) + " mm of its approach." +
+       (waysHome->options.voxel > 0.0 ? " Blue: the space the way needs, swept at " + setting(waysHome->options.voxel) + " mm voxels." : std::string()) +
+       "</p>\n<table id='ways'><tr><th>part</th><th>comes home</th><th>slides on</th><th>rests on</th><th>nearest it passes</th>"
+       "<th>least mm</th><th>where: mm out</th><th>swept cm&sup3;</th></tr>\n";
+  for (const auto& w : waysHome->ways) {
+    const Direction* way = plan.wayOf(w.part);
+    const eval::WayObject* n = w.nearest();
+    const bool miss = w.nearMiss(threshold);
+    h += std::string("<tr") + (miss ? " class='miss'" : "") + "><td>" + html(a.parts[w.part].name) + "</td><td>" +
+         html(way ? travelText(way->out) : std::string()) + "</td><td>" + html(namesOf(a, w.guides)) + "</td><td>" + html(namesOf(a, w.seatedOn)) +
+         "</td><td>" + (n ? html(a.parts[n->part].name) : std::string("nothing within ") + setting(waysHome->options.reach) + " mm") + "</td><td class='n'>" +
+         (n ? mm(n->least) + (miss ? " near miss" : "") : std::string()) + "</td><td class='n'>" + (n ? mm(n->at) : std::string()) +
+         "</td><td class='n'>" + (w.swept ? formatNumber(1e6 * w.swept->volume) : std::string()) + "</td></tr>\n";
   }
-  if (waysHome) {
-    std::size_t misses = 0;
-    for (const auto& w : waysHome->ways) misses += w.nearMiss(threshold) ? 1 : 0;
-    const auto mm = [](double m) { return formatNumber(1e3 * m); };
-    // Settings in the prose as people type them: "5 mm", "0.1 mm".
-    const auto setting = [](double m) {
-      char b[32];
-      std::snprintf(b, sizeof b, "%.4g", 1e3 * m);
-      return std::string(b);
-    };
-    h += "<h2>Ways home: clearance and space</h2>\n<p>Each part's way home in the order, walked from where it is clear of the assembly "
-         "to its place, past the parts already in: its least distance to each (found to within " + setting(waysHome->options.tolerance) +
-         " mm). A part closer than " + setting(threshold) + " mm to one it neither slides on nor rests on is a near miss, even when its way is free: " +
-         std::to_string(misses) + " of " + std::to_string(waysHome->ways.size()) + ". The parts it slides on (its inserts' partners along the way) "
-         "are left out; the parts it rests on count until the last " + setting(threshold) + " mm of its approach." +
-         (waysHome->options.voxel > 0.0 ? " Blue: the space the way needs, swept at " + setting(waysHome->options.voxel) + " mm voxels." : std::string()) +
-         "</p>\n<table id='ways'><tr><th>part</th><th>comes home</th><th>slides on</th><th>rests on</th><th>nearest it passes</th>"
-         "<th>least mm</th><th>where: mm out</th><th>swept cm&sup3;</th></tr>\n";
-    for (const auto& w : waysHome->ways) {
-      const Direction* way = plan.wayOf(w.part);
-      const eval::WayObject* n = w.nearest();
-      const bool miss = w.nearMiss(threshold);
-      h += std::string("<tr") + (miss ? " class='miss'" : "") + "><td>" + html(a.parts[w.part].name) + "</td><td>" +
-           html(way ? travelText(way->out) : std::string()) + "</td><td>" + html(namesOf(w.guides)) + "</td><td>" + html(namesOf(w.seatedOn)) +
-           "</td><td>" + (n ? html(a.parts[n->part].name) : std::string("nothing within ") + setting(waysHome->options.reach) + " mm") + "</td><td class='n'>" +
-           (n ? mm(n->least) + (miss ? " near miss" : "") : std::string()) + "</td><td class='n'>" + (n ? mm(n->at) : std::string()) +
-           "</td><td class='n'>" + (w.swept ? formatNumber(1e6 * w.swept->volume) : std::string()) + "</td></tr>\n";
-    }
-    h += "</table>\n<div class='steps'>\n";
-    for (std::size_t k = 0; k < pictured.size(); ++k) {
-      drawn(shown.size() + 1 + k);
-      const eval::WayClearance& w = *pictured[k];
-      const eval::WayObject* n = w.nearest();
-      h += "<figure><img alt='way home of " + html(a.parts[w.part].name) + "' width='320' height='220' src='" +
-           wayPicture(a, plan, home, w, threshold, 320, 220) + "'><figcaption><b>" + html(a.parts[w.part].name) + "</b> " +
-           html(travelText(w.out)) + (n ? ": " + mm(n->least) + " mm from " + html(a.parts[n->part].name) + (w.nearMiss(threshold) ? " (near miss)" : "") : std::string()) +
-           "</figcaption></figure>\n";
-    }
-    h += "</div>\n";
-    if (pictured.size() < waysHome->ways.size())
-      h += "<p>The " + std::to_string(pictured.size()) + " nearest passes are pictured; every way is in the table and in ways.csv.</p>\n";
+  h += "</table>\n<div class='steps'>\n";
+  for (std::size_t k = 0; k < pictured.size(); ++k) {
+    drawn(k);
+    const eval::WayClearance& w = *pictured[k];
+    const eval::WayObject* n = w.nearest();
+    h += "<figure><img alt='way home of " + html(a.parts[w.part].name) + "' width='320' height='220' src='" +
+         wayPicture(a, plan, home, w, threshold, 320, 220) + "'><figcaption><b>" + html(a.parts[w.part].name) + "</b> " +
+         html(travelText(w.out)) + (n ? ": " + mm(n->least) + " mm from " + html(a.parts[n->part].name) + (w.nearMiss(threshold) ? " (near miss)" : "") : std::string()) +
+         "</figcaption></figure>\n";
   }
-  const std::optional<OverlapSection> overlapsShown = overlaps ? std::optional(overlapSection(a, *overlaps)) : std::nullopt;
-  if (overlapsShown) {
-    h += overlapsShown->html;
-    j["interferences"] = overlapsShown->rows;
-  }
-  h += "<h2>Parts</h2>\n<p>Estimate: Boothroyd-Dewhurst manual handling and insertion times (the codes' rows are in the docs);"
+  h += "</div>\n";
+  if (pictured.size() < waysHome->ways.size())
+    h += "<p>The " + std::to_string(pictured.size()) + " nearest passes are pictured; every way is in the table and in ways.csv.</p>\n";
+  return h;
+}
+
+std::string partsTable(const std::vector<PartRow>& rows, bool withSessions) {
+  std::string h = "<h2>Parts</h2>\n<p>Estimate: Boothroyd-Dewhurst manual handling and insertion times (the codes' rows are in the docs);"
        " a part slow in the sessions and slow by the estimate is slow by design.</p>\n"
        "<table id='parts'><tr><th>part</th><th>step</th><th>comes home</th><th>blocked by</th><th>handling</th><th>insertion</th>"
        "<th>estimate s</th>";
@@ -687,12 +709,22 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
            html(r.hands) + "</td>";
     h += "</tr>\n";
   }
+  h += "</table>\n";
+  return h;
+}
+
+std::string timeChart(const SequencePlan& plan, const std::vector<PartRow>& rows, bool withSessions) {
   const std::vector<PartRow> perPart(rows.begin() + (plan.order.empty() ? 0 : 1), rows.end());
   const std::vector<PartRow> bars = chartRows(perPart);
-  h += "</table>\n<h2>Time per part</h2>\n<p>" +
+  return "<h2>Time per part</h2>\n<p>" +
        std::string(bars.size() < perPart.size() ? "One bar per kind of part, the mean over its parts. " : "") + "Orange: the estimate" +
        std::string(withSessions ? "; blue: the mean time from first grab to PLACED over the sessions, with one standard deviation." : ".") +
        "</p>\n" + barChart(bars, withSessions) + "\n";
+}
+
+// A section per session: its counts, the order it placed in, its timeline and its refusals.
+std::string sessionSections(const Assembly& a, const std::vector<SessionStats>& sessions) {
+  std::string h;
   for (const auto& s : sessions) {
     h += "<h2>Session " + html(s.label) + "</h2>\n<p>" + formatNumber(s.duration_s) + " s; " + std::to_string(s.placedOrder.size()) +
          " parts placed; " + std::to_string(s.grabs) + " grabs, " + std::to_string(s.drops) + " drops, " + std::to_string(s.refusals) +
@@ -704,6 +736,51 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
       for (const auto& r : p.refusals) refusals += "<li>" + html(p.name + ": " + r) + "</li>";
     if (!refusals.empty()) h += "<p>Refusals:</p><ul>" + refusals + "</ul>\n";
   }
+  return h;
+}
+
+}  // namespace
+
+ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::vector<SessionStats>& sessions,
+                        const std::filesystem::path& dir, const ProgressFn& progress, const WaysHome* waysHome,
+                        const std::vector<collision::Interference>* overlaps) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw OutputError(dir.string() + ": cannot create the report folder: " + ec.message());
+  const std::vector<PartRow> rows = partRows(a, plan, sessions);
+  const bool withSessions = !sessions.empty();
+  json j = evaluationJson(a, plan, rows, sessions);
+  if (waysHome) j["ways"] = waysJson(a, *waysHome);
+
+  const std::vector<Eigen::Isometry3d> home = eval::homePoses(a);
+  const Eigen::AlignedBox3d box = assembledBounds(a, plan, home);
+  const auto runs = stepRuns(plan);
+  std::string h = pageHead(a, plan) + orderView(a, plan) + summaryTable(a, plan, rows, runs);
+  // A picture per part up to a few dozen; beyond, one per step (every part it puts in, in colour).
+  constexpr std::size_t kPictures = 40;
+  const bool perStep = plan.order.size() > kPictures;
+  std::vector<std::pair<std::size_t, std::size_t>> shown;
+  if (perStep) shown.assign(runs.begin(), runs.begin() + static_cast<std::ptrdiff_t>(std::min(runs.size(), kPictures)));
+  else
+    for (std::size_t i = 0; i < plan.order.size(); ++i) shown.emplace_back(i, i + 1);
+  const std::vector<const eval::WayClearance*> pictured = picturedWays(waysHome, kPictures);
+  const std::size_t pictures = shown.size() + 1 + pictured.size();
+  // A picture takes a fraction of a second; the caller may stop between two (nothing is written yet).
+  const auto drawn = [&](std::size_t count) {
+    if (progress && !progress(static_cast<double>(count) / static_cast<double>(pictures),
+                              "drawing picture " + std::to_string(count + 1) + " of " + std::to_string(pictures)))
+      throw LoadCancelled();
+  };
+  drawn(0);
+  h += orderPictures(a, plan, home, box, runs, shown, perStep, drawn);
+  h += stuckTable(a, plan);
+  if (waysHome) h += waysSection(a, plan, home, waysHome, pictured, [&](std::size_t k) { drawn(shown.size() + 1 + k); });
+  const std::optional<OverlapSection> overlapsShown = overlaps ? std::optional(overlapSection(a, *overlaps)) : std::nullopt;
+  if (overlapsShown) {
+    h += overlapsShown->html;
+    j["interferences"] = overlapsShown->rows;
+  }
+  h += partsTable(rows, withSessions) + timeChart(plan, rows, withSessions) + sessionSections(a, sessions);
   // Marks the page once every picture has decoded, for whoever checks the page in a browser (its test).
   h += "<script>addEventListener('load',()=>{document.body.dataset.picturesShown="
        "Array.from(document.images).filter(i=>i.complete&&i.naturalWidth>0).length;});</script>\n";
@@ -714,15 +791,15 @@ ReportFiles writeReport(const Assembly& a, const SequencePlan& plan, const std::
   AtomicFile fh(files.html), fp(files.partsCsv), fs(files.sequenceCsv), fss(files.sessionsCsv), fj(files.json);
   std::optional<AtomicFile> fw;
   fh << h;
-  fp << partsCsv;
-  fs << sequenceCsv;
-  fss << sessionsCsv;
+  fp << partsCsv(rows);
+  fs << sequenceCsv(a, plan);
+  fss << sessionsCsv(sessions);
   fj << j.dump(2) << "\n";
   std::vector<AtomicFile*> all{&fh, &fp, &fs, &fss, &fj};
   if (waysHome) {
     files.waysCsv = dir / "ways.csv";
     fw.emplace(files.waysCsv);
-    *fw << waysCsv;
+    *fw << waysCsv(a, plan, waysHome);
     all.push_back(&*fw);
   }
   std::optional<AtomicFile> fi;

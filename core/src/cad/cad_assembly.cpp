@@ -667,62 +667,35 @@ void mergeEverySolidsFaces(ImportedNode& root) {
 
 }  // namespace
 
-Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress,
-                         MassSource massSource) {
+namespace {
+
+// A choice naming no sub-assembly of the file (renamed in the CAD system since it was saved) is said.
+void warnOfChoicesNamingNone(Assembly& a, const ImportedNode& root, const LoadOptions& options, const std::string& fileStr) {
+  std::set<std::string> subAssemblies;
+  const std::function<void(const ImportedNode&)> collect = [&](const ImportedNode& n) {
+    for (const ImportedNode& c : n.children) {
+      if (!c.children.empty()) subAssemblies.insert(c.name);
+      collect(c);
+    }
+  };
+  collect(root);
+  for (const auto& [field, chosen] : {std::pair{"units_apart", &options.cadSplit}, std::pair{"units_joined", &options.cadJoin}})
+    for (const std::string& n : *chosen)
+      if (!subAssemblies.count(n))
+        a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, field, "the instance name of a sub-assembly in the file",
+                              "\"" + n + "\", which names none: that choice is left out"});
+}
+
+// A part per instance: one welded mesh and one set of mass properties per product, shared by its instances.
+void addParts(Assembly& a, const std::vector<Instance>& instances, detail::SolidMeshes& meshes, const std::map<std::string, std::string>& units,
+              const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress, MassSource massSource) {
   const std::string fileStr = file.string();
-  Assembly a;
-  a.source = file;
-  a.cadFile = file;
-  a.cadHash = imported.contentHash.empty() ? fileContentHash(file) : imported.contentHash;
-  a.name = imported.root.name.empty() ? file.stem().string() : imported.root.name;
-  a.units = LengthUnit::Metre;
-  a.categorySettings = options.categories;
-  for (const auto& w : imported.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "", "", w});
-  if (imported.declaredUnit)
-    a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "a length unit the file declares",
-                          *imported.declaredUnit + " (converted to metres)"});
-
-  StageClock clock(options.timings);
-  // One face per surface, whatever importer read the file: a cylinder an exporter split at its seams (or a
-  // mesh's patches interrupted by a groove) is one here, before units join solids and recognition reads them.
-  mergeEverySolidsFaces(imported.root);
-  // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
-  detail::SolidMeshes meshes(fileStr);
-  const std::map<std::string, std::string> units =
-      detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, options.import, meshes, progress);
-  a.cadSplit = options.cadSplit;
-  a.cadJoin = options.cadJoin;
-  {
-    // A choice naming no sub-assembly of the file (renamed in the CAD system since it was saved) is said.
-    std::set<std::string> subAssemblies;
-    const std::function<void(const ImportedNode&)> collect = [&](const ImportedNode& n) {
-      for (const ImportedNode& c : n.children) {
-        if (!c.children.empty()) subAssemblies.insert(c.name);
-        collect(c);
-      }
-    };
-    collect(imported.root);
-    for (const auto& [field, chosen] : {std::pair{"units_apart", &options.cadSplit}, std::pair{"units_joined", &options.cadJoin}})
-      for (const std::string& n : *chosen)
-        if (!subAssemblies.count(n))
-          a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, field, "the instance name of a sub-assembly in the file",
-                                "\"" + n + "\", which names none: that choice is left out"});
-  }
-  clock.mark("units");
-  std::vector<Instance> instances;
-  std::set<std::string> names;
-  a.tree = walk(imported.root, Eigen::Isometry3d::Identity(), instances, names);
-  a.tree.kind = TreeNode::Kind::Assembly;
-  a.tree.name = a.name;
-  if (instances.empty()) fail(fileStr, "", "a STEP file with at least one solid part", "no solid");
-
   Material mat;
   mat.name = "default";
   mat.density = options.bareMeshDensity;
   a.materials.emplace(mat.name, mat);
   const double rho = options.bareMeshDensity;
 
-  // One welded mesh and one set of mass properties per product, shared by its instances.
   struct Shared {
     std::shared_ptr<const TriMesh> mesh;
     MassProperties brep, mesh_;
@@ -796,59 +769,29 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     }
     a.parts.push_back(std::move(p));
   }
+}
 
-  clock.mark("parts, meshes and mass properties");
-  checkCancel(progress, 0.65, "recognising constraints");
-  std::vector<Eigen::Isometry3d> filePoses;
-  std::vector<RecognitionPart> rec;
-  for (const Part& p : a.parts) {
-    filePoses.push_back(p.pose);
-    rec.push_back({p.cad, p.pose});
-  }
-  // Progress names the pair at hand: recognition and who goes first take seconds on a thousand parts.
-  const auto pairStage = [&](const char* stage, double from, double to) -> PairProgress {
-    if (!progress) return {};
-    return [&a, &progress, stage, from, to](double f, std::size_t i, std::size_t j) {
-      return progress(from + (to - from) * f, std::string(stage) + ": " + a.parts[i].name + " and " + a.parts[j].name);
-    };
-  };
-  const std::vector<FoundConstraint> found = recognizeConstraints(rec, {}, pairStage("recognising constraints", 0.65, 0.75));
-
-  clock.mark("recognising constraints");
-  // The base: named, else the part the assembly stands on (docs/step.md, "The base").
-  PartId base = 0;
-  std::optional<Eigen::Vector3d> baseFooting;
+// The base: named, else the part the assembly stands on (docs/step.md, "The base"); `footing` the way down
+// it stands, when it was chosen for its footing.
+PartId chooseTheBase(Assembly& a, const std::vector<Eigen::Isometry3d>& filePoses, const std::vector<FoundConstraint>& found,
+                     const LoadOptions& options, const std::string& fileStr, std::optional<Eigen::Vector3d>& footing) {
   if (options.cadBase) {
     const auto id = a.findPart(*options.cadBase);
     if (!id) fail(fileStr, "base", "the name of a part in the file", "\"" + *options.cadBase + "\"");
-    base = *id;
     a.baseReason = "chosen";
-  } else {
-    const BaseChoice choice = chooseBase(a.parts, filePoses, found);
-    base = choice.base;
-    a.baseReason = choice.reason;
-    if (choice.footing > 0.0) baseFooting = choice.down;
+    return *id;
   }
-  a.base = base;
-  a.constraints = constraintsFromFound(found, a.parts, base, filePoses);
-  // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
-  // the pairs the geometry leaves open.
-  clock.mark("the base");
-  checkCancel(progress, 0.75, "which part goes first");
-  const KeptPrecedence kept(a, options.import);
-  std::optional<std::vector<std::pair<PartId, PartId>>> first = kept.find(a.parts.size());
-  if (!first) {
-    first = eval::geometricPrecedence(a, filePoses, {}, nullptr, pairStage("which part goes first", 0.75, 0.85));
-    kept.store(*first);
-  }
-  if (!first->empty()) a.constraints = constraintsFromFound(found, a.parts, base, filePoses, {}, *first);
-  // Parts come home along their constraints and are PLACED where they come to rest there.
-  a.settings.placeAtRest = true;
+  const BaseChoice choice = chooseBase(a.parts, filePoses, found);
+  a.baseReason = choice.reason;
+  if (choice.footing > 0.0) footing = choice.down;
+  return choice.base;
+}
 
-  clock.mark("which part goes first");
-  checkCancel(progress, 0.85, "laying the parts out on the table");
-  // The base stands on its most stable face (or the way the user chose) with its footprint centred at the
-  // origin; the whole assembly turns with it, so every final pose keeps its place relative to the base.
+// The base stands on its most stable face (or the way the user chose) with its footprint centred at the
+// origin; the whole assembly turns with it, so every final pose keeps its place relative to the base. The
+// other parts wait on the table beside it, and a table goes under all of it, its top at z = 0.
+void layOutOnTheTable(Assembly& a, PartId base, const std::vector<Eigen::Isometry3d>& filePoses, const std::optional<Eigen::Vector3d>& baseFooting,
+                      const LoadOptions& options, const std::string& fileStr) {
   a.cadUp = options.cadUp.value_or("auto");
   if (!validUpChoice(a.cadUp)) fail(fileStr, "up", kUpChoices, "\"" + a.cadUp + "\"");
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
@@ -891,7 +834,6 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
     poses = layOutAround(a.parts, base, orientations, 0.0, gap);
   for (PartId id = 0; id < a.parts.size(); ++id) a.parts[id].pose = poses[id];
 
-  // A table under all of it, its top at z = 0.
   Eigen::AlignedBox3d all = a.worldBounds();
   const double margin = std::max(0.1, gap * 2.0);
   EnvironmentObject table;
@@ -908,6 +850,85 @@ Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& fil
   tableNode.name = "table";
   tableNode.index = 0;
   a.tree.children.push_back(std::move(tableNode));
+}
+
+}  // namespace
+
+Assembly assemblyFromCad(ImportedMesh imported, const std::filesystem::path& file, const LoadOptions& options, const ProgressFn& progress,
+                         MassSource massSource) {
+  const std::string fileStr = file.string();
+  Assembly a;
+  a.source = file;
+  a.cadFile = file;
+  a.cadHash = imported.contentHash.empty() ? fileContentHash(file) : imported.contentHash;
+  a.name = imported.root.name.empty() ? file.stem().string() : imported.root.name;
+  a.units = LengthUnit::Metre;
+  a.categorySettings = options.categories;
+  for (const auto& w : imported.warnings) a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "", "", w});
+  if (imported.declaredUnit)
+    a.warnings.push_back({Diagnostic::Severity::Warning, fileStr, "unit", "a length unit the file declares",
+                          *imported.declaredUnit + " (converted to metres)"});
+
+  StageClock clock(options.timings);
+  // One face per surface, whatever importer read the file: a cylinder an exporter split at its seams (or a
+  // mesh's patches interrupted by a groove) is one here, before units join solids and recognition reads them.
+  mergeEverySolidsFaces(imported.root);
+  // Bought-in units (a bearing, a motor) become one part each before anything else sees them.
+  detail::SolidMeshes meshes(fileStr);
+  const std::map<std::string, std::string> units =
+      detail::joinUnits(imported.root, options.cadSplit, options.cadJoin, options.import, meshes, progress);
+  a.cadSplit = options.cadSplit;
+  a.cadJoin = options.cadJoin;
+  warnOfChoicesNamingNone(a, imported.root, options, fileStr);
+  clock.mark("units");
+  std::vector<Instance> instances;
+  std::set<std::string> names;
+  a.tree = walk(imported.root, Eigen::Isometry3d::Identity(), instances, names);
+  a.tree.kind = TreeNode::Kind::Assembly;
+  a.tree.name = a.name;
+  if (instances.empty()) fail(fileStr, "", "a STEP file with at least one solid part", "no solid");
+
+  addParts(a, instances, meshes, units, file, options, progress, massSource);
+
+  clock.mark("parts, meshes and mass properties");
+  checkCancel(progress, 0.65, "recognising constraints");
+  std::vector<Eigen::Isometry3d> filePoses;
+  std::vector<RecognitionPart> rec;
+  for (const Part& p : a.parts) {
+    filePoses.push_back(p.pose);
+    rec.push_back({p.cad, p.pose});
+  }
+  // Progress names the pair at hand: recognition and who goes first take seconds on a thousand parts.
+  const auto pairStage = [&](const char* stage, double from, double to) -> PairProgress {
+    if (!progress) return {};
+    return [&a, &progress, stage, from, to](double f, std::size_t i, std::size_t j) {
+      return progress(from + (to - from) * f, std::string(stage) + ": " + a.parts[i].name + " and " + a.parts[j].name);
+    };
+  };
+  const std::vector<FoundConstraint> found = recognizeConstraints(rec, {}, pairStage("recognising constraints", 0.65, 0.75));
+
+  clock.mark("recognising constraints");
+  std::optional<Eigen::Vector3d> baseFooting;
+  const PartId base = chooseTheBase(a, filePoses, found, options, fileStr, baseFooting);
+  a.base = base;
+  a.constraints = constraintsFromFound(found, a.parts, base, filePoses);
+  // Who goes first, from how the parts can move (docs/step.md, "Who goes first"); the rule above for
+  // the pairs the geometry leaves open.
+  clock.mark("the base");
+  checkCancel(progress, 0.75, "which part goes first");
+  const KeptPrecedence kept(a, options.import);
+  std::optional<std::vector<std::pair<PartId, PartId>>> first = kept.find(a.parts.size());
+  if (!first) {
+    first = eval::geometricPrecedence(a, filePoses, {}, nullptr, pairStage("which part goes first", 0.75, 0.85));
+    kept.store(*first);
+  }
+  if (!first->empty()) a.constraints = constraintsFromFound(found, a.parts, base, filePoses, {}, *first);
+  // Parts come home along their constraints and are PLACED where they come to rest there.
+  a.settings.placeAtRest = true;
+
+  clock.mark("which part goes first");
+  checkCancel(progress, 0.85, "laying the parts out on the table");
+  layOutOnTheTable(a, base, filePoses, baseFooting, options, fileStr);
 
   clock.mark("layout");
   checkCancel(progress, 1.0, "done");

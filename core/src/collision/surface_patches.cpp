@@ -244,8 +244,8 @@ void cylindersFromCad(const CadSolid& cad, const Topology& topo, SurfacePatches&
   }
 }
 
-void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* cad) {
-  const PatchOptions& o = out.options;
+// Which planar facets border which: for each, the edges it shares with another.
+std::vector<std::vector<PatchEdge>> planeAdjacency(const Topology& topo, const SurfacePatches& out) {
   const std::size_t np = out.planes.size();
   std::vector<std::vector<PatchEdge>> adj(np);
   for (std::size_t t = 0; t < topo.neighbour.size(); ++t) {
@@ -259,138 +259,81 @@ void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* ca
       if (pn >= 0 && pn != pt) adj[static_cast<std::size_t>(pt)].push_back({pn, w[k], w[(k + 1) % 3]});
     }
   }
-  const auto& wv = topo.welded.vertices;
-  auto edgeDir = [&](const PatchEdge& e) {
-    return (wv[static_cast<std::size_t>(e.b)] - wv[static_cast<std::size_t>(e.a)]).normalized().eval();
-  };
-  const double cosTol = std::cos(o.angleTolerance);
-  const double sinTol = std::sin(o.angleTolerance);
-  std::vector<int> cylOfPlane(np, -1);
-  std::vector<char> tried(np, 0);
-  std::vector<int> mark(np, -1);  // region membership by seed attempt
+  return adj;
+}
 
-  int attempt = 0;
-  if (cad) cylindersFromCad(*cad, topo, out, cylOfPlane);
-  for (std::size_t seed = 0; seed < np && !cad; ++seed) {
-    if (cylOfPlane[seed] >= 0 || tried[seed]) continue;
-    const Eigen::Vector3d& n0 = out.planes[seed].normal;
-    for (const PatchEdge& e0 : adj[seed]) {
-      const auto q = static_cast<std::size_t>(e0.other);
-      if (cylOfPlane[q] >= 0 || tried[q]) continue;
-      const Eigen::Vector3d& n1 = out.planes[q].normal;
-      const double turn = std::acos(std::clamp(n0.dot(n1), -1.0, 1.0));
-      if (turn <= o.angleTolerance || turn > o.maxFacetTurn) continue;
-      const Eigen::Vector3d axis = n0.cross(n1).normalized();
-      if (std::abs(edgeDir(e0).dot(axis)) < cosTol) continue;
-      // Grow the region of facets around this axis.
-      ++attempt;
-      std::vector<int> region{static_cast<int>(seed), static_cast<int>(q)};
-      mark[seed] = attempt;
-      mark[q] = attempt;
-      std::deque<int> queue(region.begin(), region.end());
-      while (!queue.empty()) {
-        const auto x = static_cast<std::size_t>(queue.front());
-        queue.pop_front();
-        for (const PatchEdge& e : adj[x]) {
-          const auto y = static_cast<std::size_t>(e.other);
-          if (mark[y] == attempt || cylOfPlane[y] >= 0) continue;
-          const Eigen::Vector3d& ny = out.planes[y].normal;
-          if (std::abs(ny.dot(axis)) > sinTol) continue;
-          if (std::abs(edgeDir(e).dot(axis)) < cosTol) continue;
-          if (std::acos(std::clamp(out.planes[x].normal.dot(ny), -1.0, 1.0)) > o.maxFacetTurn) continue;
-          mark[y] = attempt;
-          region.push_back(static_cast<int>(y));
-          queue.push_back(static_cast<int>(y));
-        }
-      }
-      bool ok = static_cast<int>(region.size()) >= o.minFacets;
-      CylindricalPatch c;
-      if (ok) {
-        // Unique vertices of the region, projected onto the plane normal to the axis.
-        const Eigen::Vector3d e1 = perpendicular(axis), e2 = axis.cross(e1);
-        std::vector<int> verts;
-        for (int f : region)
-          for (int tri : out.planes[static_cast<std::size_t>(f)].triangles)
-            for (int k = 0; k < 3; ++k) verts.push_back(topo.welded.triangles[static_cast<std::size_t>(tri)][k]);
-        std::sort(verts.begin(), verts.end());
-        verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
-        std::vector<Eigen::Vector2d> pts;
-        pts.reserve(verts.size());
-        double tmin = 1e300, tmax = -1e300;
-        for (int v : verts) {
-          const Eigen::Vector3d& x = wv[static_cast<std::size_t>(v)];
-          pts.emplace_back(x.dot(e1), x.dot(e2));
-          tmin = std::min(tmin, x.dot(axis));
-          tmax = std::max(tmax, x.dot(axis));
-        }
-        Eigen::Vector2d centre;
-        double radius = 0.0;
-        ok = fitCircle(pts, centre, radius);
-        if (ok) {
-          double residual = 0.0;
-          for (const auto& pt : pts) residual = std::max(residual, std::abs((pt - centre).norm() - radius));
-          ok = residual <= std::max(o.distanceTolerance, 1e-6 * radius);
-          c.residual = residual;
-        }
-        if (ok) {
-          const Eigen::Vector3d c3 = centre.x() * e1 + centre.y() * e2;
-          c.direction = axis;
-          c.radius = radius;
-          c.point = c3 + tmin * axis;
-          c.length = tmax - tmin;
-          int outward = 0, inward = 0;
-          double closest = radius, coverage = 0.0;
-          for (int f : region) {
-            const PlanarPatch& p = out.planes[static_cast<std::size_t>(f)];
-            Eigen::Vector3d radial = p.origin - c3;
-            radial -= axis * axis.dot(radial);
-            const double s = p.normal.dot(radial);
-            (s > 0.0 ? outward : inward) += 1;
-            closest = std::min(closest, std::abs(s));
-            // Arc subtended by the facet's vertices.
-            const double mid = std::atan2(radial.dot(e2), radial.dot(e1));
-            double lo = 0.0, hi = 0.0;
-            for (int tri : p.triangles)
-              for (int k = 0; k < 3; ++k) {
-                const Eigen::Vector3d d = wv[static_cast<std::size_t>(topo.welded.triangles[static_cast<std::size_t>(tri)][k])] - c3;
-                double ang = std::atan2(d.dot(e2), d.dot(e1)) - mid;
-                ang = std::remainder(ang, 2.0 * kPi);
-                lo = std::min(lo, ang);
-                hi = std::max(hi, ang);
-              }
-            coverage += hi - lo;
-          }
-          ok = outward == 0 || inward == 0;
-          c.convex = inward == 0;
-          c.sagitta = std::max(0.0, radius - closest);
-          c.coverage = std::min(coverage, 2.0 * kPi);
-        }
-      }
-      if (ok) {
-        const int ci = static_cast<int>(out.cylinders.size());
-        std::sort(region.begin(), region.end());
-        c.facets = region;
-        for (int f : region) {
-          cylOfPlane[static_cast<std::size_t>(f)] = ci;
-          for (int tri : out.planes[static_cast<std::size_t>(f)].triangles) {
-            c.triangles.push_back(tri);
-            out.cylinderOf[static_cast<std::size_t>(tri)] = ci;
-          }
-        }
-        std::sort(c.triangles.begin(), c.triangles.end());
-        out.cylinders.push_back(std::move(c));
-        break;
-      }
-      // A ruled surface that is not a cylinder (an involute flank, say): do not try its facets again.
-      for (int f : region) tried[static_cast<std::size_t>(f)] = 1;
-      break;
-    }
+// Fits a cylinder about `axis` to a region of facets: the circle through its vertices seen along the axis,
+// within the distance tolerance, every facet facing the same way from it (outward: convex). False when they
+// do not lie on one.
+bool fitCylinder(const Topology& topo, const SurfacePatches& out, const std::vector<int>& region, const Eigen::Vector3d& axis, CylindricalPatch& c) {
+  const PatchOptions& o = out.options;
+  const auto& wv = topo.welded.vertices;
+  // Unique vertices of the region, projected onto the plane normal to the axis.
+  const Eigen::Vector3d e1 = perpendicular(axis), e2 = axis.cross(e1);
+  std::vector<int> verts;
+  for (int f : region)
+    for (int tri : out.planes[static_cast<std::size_t>(f)].triangles)
+      for (int k = 0; k < 3; ++k) verts.push_back(topo.welded.triangles[static_cast<std::size_t>(tri)][k]);
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  std::vector<Eigen::Vector2d> pts;
+  pts.reserve(verts.size());
+  double tmin = 1e300, tmax = -1e300;
+  for (int v : verts) {
+    const Eigen::Vector3d& x = wv[static_cast<std::size_t>(v)];
+    pts.emplace_back(x.dot(e1), x.dot(e2));
+    tmin = std::min(tmin, x.dot(axis));
+    tmax = std::max(tmax, x.dot(axis));
   }
-  // End faces (rims) of each cylinder. A face ends a cylinder when every point of it (outline corners and
-  // triangle centroids) lies on the material's side of the radius. A plate's face borders each of its
-  // hundreds of holes, so for a bore only the points that can lie within the radius are looked at: those
-  // whose coordinate along the face's u lies within radius / cos(tilt) of where the axis crosses the face,
-  // from the face's points sorted along u (built once per face, when a bore first asks).
+  Eigen::Vector2d centre;
+  double radius = 0.0;
+  if (!fitCircle(pts, centre, radius)) return false;
+  double residual = 0.0;
+  for (const auto& pt : pts) residual = std::max(residual, std::abs((pt - centre).norm() - radius));
+  c.residual = residual;
+  if (residual > std::max(o.distanceTolerance, 1e-6 * radius)) return false;
+  const Eigen::Vector3d c3 = centre.x() * e1 + centre.y() * e2;
+  c.direction = axis;
+  c.radius = radius;
+  c.point = c3 + tmin * axis;
+  c.length = tmax - tmin;
+  int outward = 0, inward = 0;
+  double closest = radius, coverage = 0.0;
+  for (int f : region) {
+    const PlanarPatch& p = out.planes[static_cast<std::size_t>(f)];
+    Eigen::Vector3d radial = p.origin - c3;
+    radial -= axis * axis.dot(radial);
+    const double s = p.normal.dot(radial);
+    (s > 0.0 ? outward : inward) += 1;
+    closest = std::min(closest, std::abs(s));
+    // Arc subtended by the facet's vertices.
+    const double mid = std::atan2(radial.dot(e2), radial.dot(e1));
+    double lo = 0.0, hi = 0.0;
+    for (int tri : p.triangles)
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::Vector3d d = wv[static_cast<std::size_t>(topo.welded.triangles[static_cast<std::size_t>(tri)][k])] - c3;
+        double ang = std::atan2(d.dot(e2), d.dot(e1)) - mid;
+        ang = std::remainder(ang, 2.0 * kPi);
+        lo = std::min(lo, ang);
+        hi = std::max(hi, ang);
+      }
+    coverage += hi - lo;
+  }
+  c.convex = inward == 0;
+  c.sagitta = std::max(0.0, radius - closest);
+  c.coverage = std::min(coverage, 2.0 * kPi);
+  return outward == 0 || inward == 0;
+}
+
+// End faces (rims) of each cylinder. A face ends a cylinder when every point of it (outline corners and
+// triangle centroids) lies on the material's side of the radius. A plate's face borders each of its
+// hundreds of holes, so for a bore only the points that can lie within the radius are looked at: those
+// whose coordinate along the face's u lies within radius / cos(tilt) of where the axis crosses the face,
+// from the face's points sorted along u (built once per face, when a bore first asks).
+void findRims(const Topology& topo, SurfacePatches& out, const std::vector<std::vector<PatchEdge>>& adj, const std::vector<int>& cylOfPlane) {
+  const PatchOptions& o = out.options;
+  const std::size_t np = out.planes.size();
+  const double cosTol = std::cos(o.angleTolerance);
   const TriMesh& welded = topo.welded;
   std::vector<std::vector<std::pair<double, Eigen::Vector3d>>> alongU(np);
   const auto pointsAlongU = [&](std::size_t pi) -> const std::vector<std::pair<double, Eigen::Vector3d>>& {
@@ -438,6 +381,79 @@ void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* ca
       if (std::all_of(from, to, [&](const auto& e) { return inside(e.second); })) out.planes[static_cast<std::size_t>(pi)].rimOf.push_back(static_cast<int>(ci));
     }
   }
+}
+
+void findCylinders(const Topology& topo, SurfacePatches& out, const CadSolid* cad) {
+  const PatchOptions& o = out.options;
+  const std::size_t np = out.planes.size();
+  const std::vector<std::vector<PatchEdge>> adj = planeAdjacency(topo, out);
+  const auto& wv = topo.welded.vertices;
+  auto edgeDir = [&](const PatchEdge& e) {
+    return (wv[static_cast<std::size_t>(e.b)] - wv[static_cast<std::size_t>(e.a)]).normalized().eval();
+  };
+  const double cosTol = std::cos(o.angleTolerance);
+  const double sinTol = std::sin(o.angleTolerance);
+  std::vector<int> cylOfPlane(np, -1);
+  std::vector<char> tried(np, 0);
+  std::vector<int> mark(np, -1);  // region membership by seed attempt
+
+  int attempt = 0;
+  if (cad) cylindersFromCad(*cad, topo, out, cylOfPlane);
+  for (std::size_t seed = 0; seed < np && !cad; ++seed) {
+    if (cylOfPlane[seed] >= 0 || tried[seed]) continue;
+    const Eigen::Vector3d& n0 = out.planes[seed].normal;
+    for (const PatchEdge& e0 : adj[seed]) {
+      const auto q = static_cast<std::size_t>(e0.other);
+      if (cylOfPlane[q] >= 0 || tried[q]) continue;
+      const Eigen::Vector3d& n1 = out.planes[q].normal;
+      const double turn = std::acos(std::clamp(n0.dot(n1), -1.0, 1.0));
+      if (turn <= o.angleTolerance || turn > o.maxFacetTurn) continue;
+      const Eigen::Vector3d axis = n0.cross(n1).normalized();
+      if (std::abs(edgeDir(e0).dot(axis)) < cosTol) continue;
+      // Grow the region of facets around this axis.
+      ++attempt;
+      std::vector<int> region{static_cast<int>(seed), static_cast<int>(q)};
+      mark[seed] = attempt;
+      mark[q] = attempt;
+      std::deque<int> queue(region.begin(), region.end());
+      while (!queue.empty()) {
+        const auto x = static_cast<std::size_t>(queue.front());
+        queue.pop_front();
+        for (const PatchEdge& e : adj[x]) {
+          const auto y = static_cast<std::size_t>(e.other);
+          if (mark[y] == attempt || cylOfPlane[y] >= 0) continue;
+          const Eigen::Vector3d& ny = out.planes[y].normal;
+          if (std::abs(ny.dot(axis)) > sinTol) continue;
+          if (std::abs(edgeDir(e).dot(axis)) < cosTol) continue;
+          if (std::acos(std::clamp(out.planes[x].normal.dot(ny), -1.0, 1.0)) > o.maxFacetTurn) continue;
+          mark[y] = attempt;
+          region.push_back(static_cast<int>(y));
+          queue.push_back(static_cast<int>(y));
+        }
+      }
+      CylindricalPatch c;
+      const bool ok = static_cast<int>(region.size()) >= o.minFacets && fitCylinder(topo, out, region, axis, c);
+      if (ok) {
+        const int ci = static_cast<int>(out.cylinders.size());
+        std::sort(region.begin(), region.end());
+        c.facets = region;
+        for (int f : region) {
+          cylOfPlane[static_cast<std::size_t>(f)] = ci;
+          for (int tri : out.planes[static_cast<std::size_t>(f)].triangles) {
+            c.triangles.push_back(tri);
+            out.cylinderOf[static_cast<std::size_t>(tri)] = ci;
+          }
+        }
+        std::sort(c.triangles.begin(), c.triangles.end());
+        out.cylinders.push_back(std::move(c));
+        break;
+      }
+      // A ruled surface that is not a cylinder (an involute flank, say): do not try its facets again.
+      for (int f : region) tried[static_cast<std::size_t>(f)] = 1;
+      break;
+    }
+  }
+  findRims(topo, out, adj, cylOfPlane);
 }
 
 }  // namespace
