@@ -19,6 +19,9 @@
 
 #include "evaluate_command.hpp"
 #include "export_command.hpp"
+#ifdef VAW_HAVE_VIDEO
+#include "video_command.hpp"
+#endif
 #include "clearance_command.hpp"
 #include "run_command.hpp"
 #include "trials_command.hpp"
@@ -428,6 +431,25 @@ int dispatch(int argc, char** argv) {
       ->check(CLI::Range(0.0, 100.0));
   exCmd->callback([&] { command = [&] { return vaw::app::exportGltf(ex); }; });
 
+#ifdef VAW_HAVE_VIDEO
+  vaw::app::VideoArgs vi;
+  CLI::App* viCmd = app.add_subcommand(
+      "video", "A recorded session replayed, or with --order a scene's planned order, as an H.264 video in an MP4 file (docs/sharing.md): "
+               "every frame the picture the window would show, with a caption line; no display or GPU needed.");
+  viCmd->add_option("SESSION_OR_SCENE", vi.input, "Recorded session (.vaw-session.json), or with --order a scene, STEP or mesh file")->required();
+  viCmd->add_option("--out", vi.out, "The .mp4 file to write")->type_name("FILE")->required();
+  viCmd->add_option("--size", vi.size, "Picture size in pixels, both even (default 1280x720)")->type_name("WxH");
+  viCmd->add_option("--fps", vi.fps, "Frames a second (default 30)")->check(CLI::Range(1, 240));
+  viCmd->add_option("--from", vi.from, "Start, s of the recording or order (default its start)");
+  viCmd->add_option("--to", vi.to, "End, s (default its end)");
+  viCmd->add_option("--speed", vi.speed, "Seconds of recording a second of video (default 1)")->check(CLI::Range(0.01, 1000.0));
+  // "follow PART" as one argument or two.
+  viCmd->add_option("--camera", vi.camera, "auto (default), follow PART, or iso, front, back, left, right, top")->expected(1, 2);
+  viCmd->add_flag("--order", vi.order, "Play the planned order of a scene, STEP or mesh file");
+  viCmd->add_option("--step-seconds", vi.stepSeconds, "Seconds each step of the order takes (default 2)")->check(CLI::Range(0.05, 600.0));
+  viCmd->callback([&] { command = [&] { return vaw::app::video(vi); }; });
+#endif
+
   vaw::app::EvaluateArgs ev;
   CLI::App* evCmd = app.add_subcommand(
       "evaluate", "Which order puts an assembly together (a scene, a STEP file or a mesh file): every part's ways home "
@@ -518,7 +540,7 @@ int dispatch(int argc, char** argv) {
     }
     std::string problem = e.what();
     if (where == "vaw-sim" && argc > 1 && argv[1][0] != '-')
-      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, clearance, sweep, evaluate, export, work-precision, trials)";
+      problem = std::string("unknown command \"") + argv[1] + "\" (the commands: inspect, states, run, clearance, sweep, evaluate, export, video, work-precision, trials)";
     std::fprintf(stderr, "%s: %s\nRun %s --help for the usage.\n", where.c_str(), problem.c_str(), where.c_str());
     return 2;
   }

@@ -33,6 +33,9 @@ packages=(
   xvfb xauth libgl1-mesa-dri libglx-mesa0 libegl-mesa0 libegl-dev
   # the evaluation report is opened in a real browser by its test (headless); three.js draws its 3D view
   chromium libjs-three
+  # videos of a session or an order: FFmpeg's libraries (libavcodec has the libx264 H.264 encoder); ffprobe
+  # reads the videos back in the tests
+  libavcodec-dev libavformat-dev libswscale-dev libavutil-dev ffmpeg
   # packaging checks
   desktop-file-utils appstream
   # regenerating docs/states.svg from docs/states.dot

@@ -13,7 +13,7 @@
 #include <vector>
 
 // Eigen first: Xlib defines macros (Success, None, Status) that Eigen's headers refuse to see.
-#include "gl_renderer.hpp"
+#include "vaw/gl/gl_renderer.hpp"
 #include "vaw/ui/xr.hpp"
 
 #include <GL/glx.h>

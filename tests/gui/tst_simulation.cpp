@@ -7,6 +7,10 @@
 #include <Qt3DExtras/Qt3DWindow>
 #include <Qt3DRender/QCamera>
 #include <QCheckBox>
+#include <QComboBox>
+#include <QDialogButtonBox>
+#include <QMenuBar>
+#include <QProgressDialog>
 #include <QDoubleSpinBox>
 #include <QLineEdit>
 #include <QProcess>
@@ -104,6 +108,7 @@ class TestSimulation : public QObject {
   void carriedNearItsMateThePartShowsTheCaptureZone();
   void fallingBehindIsShownWithTheRealRate();
   void carriedPathShowsItsSweptVolumeAndClearance();
+  void theRecordingExportsAsAVideo();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -880,6 +885,76 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   sim().reset();
   QTRY_VERIFY_WITH_TIMEOUT(path->swept() == nullptr, 2000);
   QVERIFY(window_->partDock()->model()->value(QStringLiteral("Swept volume")).isEmpty());
+}
+
+// File > Export Video as a person uses it: the menu clicked, the size and frame rate chosen in the dialog,
+// the file named in the file dialog. A first export at the largest size is stopped from its progress window
+// (said, no file); a small one is written while the simulation goes on, and ffprobe reads it back as H.264
+// with a frame for every tenth of a second recorded.
+void TestSimulation::theRecordingExportsAsAVideo() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  QTRY_VERIFY_WITH_TIMEOUT(sim().recorder().endTime() >= 3.0, 20000);
+  sim().pause();
+  const double recorded = sim().recorder().endTime();
+  const auto exportThroughTheMenu = [&](const QString& file, int sizeKey, const QString& fps) {
+    vaw::guitest::whenModal([file, sizeKey, fps](QWidget* dialog) {
+      QCOMPARE(dialog->objectName(), QStringLiteral("videoDialog"));
+      auto* size = dialog->findChild<QComboBox*>(QStringLiteral("videoSize"));
+      size->setFocus();
+      QTest::keyClick(size, static_cast<Qt::Key>(sizeKey));
+      vaw::guitest::typeInto(dialog->findChild<QSpinBox*>(QStringLiteral("videoFps")), fps);
+      vaw::guitest::whenModal([file](QWidget* w) { vaw::guitest::answerFileDialog(w, file); });
+      QTest::mouseClick(dialog->findChild<QDialogButtonBox*>()->button(QDialogButtonBox::Ok), Qt::LeftButton);
+    });
+    QMenuBar* bar = window_->menuBar();
+    QAction* fileMenu = bar->actions().front();
+    QTest::mouseClick(bar, Qt::LeftButton, {}, bar->actionGeometry(fileMenu).center());
+    QMenu* menu = fileMenu->menu();
+    QTRY_VERIFY_WITH_TIMEOUT(menu->isVisible(), 3000);
+    QAction* video = menu->findChild<QAction*>(QStringLiteral("exportVideoAction"));
+    if (video == nullptr)
+      for (QAction* a : menu->actions())
+        if (a->objectName() == QStringLiteral("exportVideoAction")) video = a;
+    QVERIFY(video != nullptr);
+    QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(video).center());
+    QTRY_VERIFY_WITH_TIMEOUT(window_->exportingVideo(), 10000);
+  };
+
+  // The largest size, stopped from its progress window.
+  const QString big = keep_.filePath(QStringLiteral("stopped.mp4"));
+  exportThroughTheMenu(big, Qt::Key_Home, QStringLiteral("30"));
+  if (QTest::currentTestFailed()) return;
+  QTRY_VERIFY_WITH_TIMEOUT(window_->videoProgress() != nullptr && window_->videoProgress()->isVisible() && window_->videoProgress()->value() > 0, 20000);
+  QVERIFY2(window_->videoProgress()->labelText().startsWith(QStringLiteral("Writing the video ") + big + QStringLiteral("\nframe ")),
+           qPrintable(window_->videoProgress()->labelText()));
+  vaw::guitest::shot(window_.get(), window_.get(), QStringLiteral("video-export-progress.png"));
+  auto* stop = window_->videoProgress()->findChild<QPushButton*>();
+  QVERIFY(stop != nullptr);
+  QCOMPARE(stop->text(), QStringLiteral("Stop"));
+  QTest::mouseClick(stop, Qt::LeftButton);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingVideo(), 10000);
+  QCOMPARE(window_->statusBar()->currentMessage(), QStringLiteral("Stopped: no video written to ") + big);
+  QVERIFY(!QFile::exists(big));
+  QVERIFY(window_->videoProgress() == nullptr);
+
+  // 640 x 360 (the last size) at 10 frames a second, while the simulation goes on.
+  const QString small = keep_.filePath(QStringLiteral("sleeve.mp4"));
+  exportThroughTheMenu(small, Qt::Key_End, QStringLiteral("10"));
+  if (QTest::currentTestFailed()) return;
+  sim().play();
+  const std::uint64_t before = sim().recorder().length();
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingVideo(), 60000);
+  QVERIFY2(sim().recorder().length() > before, "the simulation went on while the video was written");
+  sim().pause();
+  const QString said = window_->statusBar()->currentMessage();
+  QVERIFY2(said.startsWith(QStringLiteral("Wrote the video to ") + small), qPrintable(said));
+  const int frames = static_cast<int>(std::floor(recorded / 0.1 + 1e-9)) + 1;
+  QVERIFY2(said.contains(QStringLiteral("(%1 frames").arg(frames)), qPrintable(said));
+  QProcess probe;
+  probe.start(QStringLiteral("ffprobe"), {QStringLiteral("-v"), QStringLiteral("error"), QStringLiteral("-count_frames"), QStringLiteral("-show_entries"),
+                                          QStringLiteral("stream=codec_name,width,height,nb_read_frames"), QStringLiteral("-of"), QStringLiteral("csv=p=0"), small});
+  QVERIFY(probe.waitForFinished(30000));
+  QCOMPARE(QString::fromUtf8(probe.readAllStandardOutput()).trimmed(), QStringLiteral("h264,640,360,%1").arg(frames));
 }
 
 QTEST_MAIN(TestSimulation)

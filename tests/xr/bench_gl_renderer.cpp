@@ -1,5 +1,5 @@
 // The headset renderer alone, with no OpenXR and no X server (docs/benchmarks.md, "The headset renderer
-// through EGL"): plugins/openxr/gl_renderer.cpp draws both eyes of a bundled scene at a headset's resolution
+// through EGL"): ui/gl/gl_renderer.cpp draws both eyes of a bundled scene at a headset's resolution
 // into textures, in an OpenGL 3.3 core context made through EGL on the device platform (a GPU's driver, or
 // Mesa's software devices), falling back to Mesa's surfaceless platform. Per frame: the CPU's issue of both
 // eyes, the GPU's time for them (GL_TIME_ELAPSED timer queries) and issue plus glFinish, medians over the
@@ -8,8 +8,6 @@
 //   build/bin/vaw_bench_gl_renderer [SCENE] [EYE_WIDTH EYE_HEIGHT] [FRAMES]
 //   (defaults: large-gearbox.vaw.json 2064 2208 60)
 #define GL_GLEXT_PROTOTYPES 1
-#include <EGL/egl.h>
-#include <EGL/eglext.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
 
@@ -20,10 +18,12 @@
 #include <cstdlib>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "gl_renderer.hpp"
+#include "vaw/gl/gl_renderer.hpp"
+#include "vaw/gl/headless_gl.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/world.hpp"
@@ -34,58 +34,6 @@ namespace {
 [[noreturn]] void die(const std::string& what) {
   std::fprintf(stderr, "vaw_bench_gl_renderer: %s\n", what.c_str());
   std::exit(1);
-}
-
-struct Context {
-  EGLDisplay display = EGL_NO_DISPLAY;
-  EGLContext context = EGL_NO_CONTEXT;
-  std::string platform;
-};
-
-EGLDisplay initialize(EGLDisplay d) {
-  if (d == EGL_NO_DISPLAY) return d;
-  EGLint major = 0, minor = 0;
-  return eglInitialize(d, &major, &minor) ? d : EGL_NO_DISPLAY;
-}
-
-// The device platform's first device whose display initialises, else Mesa's surfaceless platform.
-Context makeContext() {
-  Context c;
-  const auto queryDevices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-  const auto queryDeviceString = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
-  const auto platformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(eglGetProcAddress("eglGetPlatformDisplayEXT"));
-  if (platformDisplay == nullptr) die("EGL without eglGetPlatformDisplayEXT");
-  if (queryDevices != nullptr) {
-    EGLDeviceEXT devices[16];
-    EGLint count = 0;
-    if (queryDevices(16, devices, &count)) {
-      for (EGLint i = 0; i < count && c.display == EGL_NO_DISPLAY; ++i) {
-        c.display = initialize(platformDisplay(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr));
-        if (c.display == EGL_NO_DISPLAY) continue;
-        const char* ext = queryDeviceString != nullptr ? queryDeviceString(devices[i], EGL_EXTENSIONS) : nullptr;
-        c.platform = "device " + std::to_string(i) + " of " + std::to_string(count) +
-                     (ext != nullptr && std::string(ext).find("EGL_MESA_device_software") != std::string::npos ? " (software)" : "");
-      }
-    }
-  }
-  if (c.display == EGL_NO_DISPLAY) {
-    c.display = initialize(platformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr));
-    c.platform = "surfaceless";
-  }
-  if (c.display == EGL_NO_DISPLAY) die("no EGL display: neither the device nor the surfaceless platform initialises");
-  if (!eglBindAPI(EGL_OPENGL_API)) die("EGL without desktop OpenGL");
-  // No window: any surface type (the device platform offers pbuffer configs only, and eglChooseConfig
-  // asks for a window one unless told).
-  const EGLint configAttribs[] = {EGL_RENDERABLE_TYPE, EGL_OPENGL_BIT, EGL_SURFACE_TYPE, EGL_DONT_CARE, EGL_NONE};
-  EGLConfig config = nullptr;
-  EGLint configs = 0;
-  if (!eglChooseConfig(c.display, configAttribs, &config, 1, &configs) || configs < 1) die("no EGL config for OpenGL");
-  const EGLint contextAttribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
-                                   EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
-  c.context = eglCreateContext(c.display, config, EGL_NO_CONTEXT, contextAttribs);
-  if (c.context == EGL_NO_CONTEXT) die("no OpenGL 3.3 core context");
-  if (!eglMakeCurrent(c.display, EGL_NO_SURFACE, EGL_NO_SURFACE, c.context)) die("cannot make the context current without a surface");
-  return c;
 }
 
 // An eye 0.45 m above the table top and 0.6 m back from its centre, looking at the centre; 6.4 cm apart.
@@ -121,7 +69,12 @@ int main(int argc, char** argv) {
   const int frames = argc > 4 ? std::atoi(argv[4]) : 60;
   if (width <= 0 || height <= 0 || frames <= 0) die("usage: vaw_bench_gl_renderer [SCENE] [EYE_WIDTH EYE_HEIGHT] [FRAMES]");
 
-  const Context ctx = makeContext();
+  std::optional<vaw::gl::HeadlessGl> ctx;
+  try {
+    ctx.emplace();
+  } catch (const std::exception& e) {
+    die(e.what());
+  }
   vaw::ImporterRegistry importers;
   (void)importers.loadPlugins(VAW_BUILD_PLUGIN_DIR);
   const auto scene = vaw::sim::Scene::build(
@@ -180,15 +133,12 @@ int main(int argc, char** argv) {
     }
   }
   std::printf("renderer: %s; %s; EGL %s\n", reinterpret_cast<const char*>(glGetString(GL_RENDERER)),
-              reinterpret_cast<const char*>(glGetString(GL_VERSION)), ctx.platform.c_str());
+              reinterpret_cast<const char*>(glGetString(GL_VERSION)), ctx->platform().c_str());
   std::printf("scene: %s, %zu drawables; both eyes at %d x %d; %d frames after 5 of warm-up\n", sceneName.c_str(),
               description.drawables.size(), width, height, frames);
   std::printf("median per frame (both eyes): CPU issue %.3f ms, GPU %.3f ms, issue + finish %.3f ms\n", median(issue), median(gpu),
               median(finished));
   glDeleteQueries(1, &query);
   glDeleteTextures(2, textures);
-  eglMakeCurrent(ctx.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
-  eglDestroyContext(ctx.display, ctx.context);
-  eglTerminate(ctx.display);
   return 0;
 }

@@ -9,7 +9,9 @@
 #include <QFileDialog>
 #include <QFileInfo>
 #include <QDialog>
+#include <QComboBox>
 #include <QDialogButtonBox>
+#include <QSpinBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QMessageBox>
@@ -25,6 +27,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "background_export.hpp"
 #include "format.hpp"
 #include "vaw/error.hpp"
 #include "vaw/report/report.hpp"
@@ -445,6 +448,91 @@ void MainWindow::reportFinished() {
             out.session.isEmpty() ? tr("No session: nothing was simulated yet.") : tr("With this session (%1 s).").arg(out.session));
   }
   statusBar()->showMessage(text, 15000);
+}
+
+bool MainWindow::exportingVideo() const { return videoExport_ != nullptr && videoExport_->running(); }
+QProgressDialog* MainWindow::videoProgress() const { return videoExport_ != nullptr ? videoExport_->progress() : nullptr; }
+
+void MainWindow::exportVideoDialog() {
+  if (!simulation_->hasWorld() || simulation_->recorder().length() == 0) {
+    statusBar()->showMessage(tr("No video: nothing is recorded yet (play the simulation first)"), 15000);
+    return;
+  }
+  QDialog d(this);
+  d.setObjectName(QStringLiteral("videoDialog"));
+  d.setWindowTitle(tr("Export Video"));
+  auto* form = new QFormLayout(&d);
+  auto* size = new QComboBox(&d);
+  size->setObjectName(QStringLiteral("videoSize"));
+  for (const QSize s : {QSize(1920, 1080), QSize(1280, 720), QSize(854, 480), QSize(640, 360)})
+    size->addItem(tr("%1 × %2").arg(s.width()).arg(s.height()), s);
+  size->setCurrentIndex(1);
+  form->addRow(tr("Size"), size);
+  auto* fps = new QSpinBox(&d);
+  fps->setObjectName(QStringLiteral("videoFps"));
+  fps->setRange(1, 60);
+  fps->setValue(30);
+  fps->setSuffix(tr(" frames/s"));
+  form->addRow(tr("Frame rate"), fps);
+  auto* camera = new QComboBox(&d);
+  camera->setObjectName(QStringLiteral("videoCamera"));
+  camera->addItem(tr("Following the work"), QStringLiteral("auto"));
+  if (const auto selected = viewport_->selectedPart())
+    camera->addItem(tr("Close on %1").arg(QString::fromStdString(controller_.assembly()->parts[*selected].name)),
+                    QStringLiteral("follow ") + QString::fromStdString(controller_.assembly()->parts[*selected].name));
+  for (const auto& [label, view] : {std::pair{tr("From the home view"), QStringLiteral("iso")}, {tr("From the front"), QStringLiteral("front")},
+                                    {tr("From above"), QStringLiteral("top")}})
+    camera->addItem(label, view);
+  form->addRow(tr("Camera"), camera);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, &d);
+  connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
+  form->addRow(buttons);
+  if (d.exec() != QDialog::Accepted) return;
+  vaw::video::VideoOptions options;
+  options.width = size->currentData().toSize().width();
+  options.height = size->currentData().toSize().height();
+  options.fps = fps->value();
+  options.camera = vaw::video::parseCamera(camera->currentData().toString().toStdString()).value_or(vaw::video::Camera{});
+  const QString suggested = QFileInfo(controller_.currentPath()).absolutePath() + QLatin1Char('/') +
+                            QFileInfo(controller_.currentPath()).completeBaseName() + QStringLiteral(".mp4");
+  QString file = QFileDialog::getSaveFileName(this, tr("Export Video"), suggested, tr("MP4 video (*.mp4)"));
+  if (file.isEmpty()) return;
+  if (!file.endsWith(QStringLiteral(".mp4"), Qt::CaseInsensitive)) file += QStringLiteral(".mp4");
+  exportVideo(file, options);
+}
+
+void MainWindow::exportVideo(const QString& file, const vaw::video::VideoOptions& options) {
+  if (!simulation_->hasWorld() || simulation_->recorder().length() == 0) return;
+  if (videoExport_ == nullptr) {
+    videoExport_ = new BackgroundExport(this, "video", tr("Export Video"), QStringLiteral("videoProgress"));
+    connect(videoExport_, &BackgroundExport::finished, this, [this](const BackgroundExport::Outcome& out) {
+      QString text;
+      if (out.cancelled) {
+        text = tr("Stopped: no video written to %1").arg(out.target);
+        message(static_cast<int>(MessageLogModel::Severity::Info), text);
+      } else if (!out.error.isEmpty()) {
+        text = tr("Could not write the video %1: %2").arg(out.target, out.error);
+        message(static_cast<int>(MessageLogModel::Severity::Error), text);
+      } else {
+        text = tr("Wrote the video to %1 (%2)").arg(out.target, out.written);
+        message(static_cast<int>(MessageLogModel::Severity::Info), text);
+      }
+      statusBar()->showMessage(text, 15000);
+    });
+  }
+  // What the worker reads, copied: the window goes on simulating and recording meanwhile.
+  const std::shared_ptr<const vaw::sim::Scene> scene = simulation_->recorder().scenePtr();
+  auto session = std::make_shared<const vaw::sim::Session>(simulation_->recorder().session());
+  const std::filesystem::path where(QFile::encodeName(file).toStdString());
+  const bool started = videoExport_->start(file, tr("Writing the video %1").arg(file), [scene, session, where, options](const vaw::ProgressFn& progress) {
+    const vaw::video::VideoResult r = vaw::video::writeSessionVideo(scene, *session, where, options, progress);
+    return tr("%1 frames, %2 s at %3 × %4").arg(r.frames).arg(r.seconds, 0, 'f', 1).arg(options.width).arg(options.height);
+  });
+  const QString text = started ? tr("Writing the video %1...").arg(file)
+                               : tr("No video written to %1: another is being written; stop it or wait for it").arg(file);
+  if (!started) message(static_cast<int>(MessageLogModel::Severity::Error), text);
+  statusBar()->showMessage(text, started ? 0 : 15000);
 }
 
 }  // namespace vaw::ui

@@ -73,6 +73,7 @@ struct PartFrame {
   sim::Holder holder = sim::Holder::None;
   bool selected = false;
   Rgb color;  // displayColor of its drawable
+  bool shown = true;  // false: not drawn (a video of the order hides the parts whose step has not come)
 };
 
 struct HandFrame {

@@ -16,6 +16,7 @@
 #include "vaw/importer.hpp"
 #include "vaw/sim/edit.hpp"
 #include "vaw/sim/report.hpp"
+#include "vaw/video/video.hpp"
 
 class QAction;
 class QDockWidget;
@@ -46,6 +47,7 @@ class SequenceDock;
 class InterferenceDock;
 class PathDock;
 class XrController;
+class BackgroundExport;
 
 class MainWindow : public QMainWindow {
   Q_OBJECT
@@ -102,6 +104,14 @@ class MainWindow : public QMainWindow {
   // True from the moment a report is started until what came of it was said.
   [[nodiscard]] bool writingReport() const { return reportCancel_ != nullptr; }
   [[nodiscard]] QProgressDialog* reportProgress() const { return reportProgress_; }
+  // File > Export Video: the size, frame rate and camera asked for (videoDialog), then the file; exportVideo.
+  void exportVideoDialog();
+  // The recording so far as an MP4 video (vaw::video::writeSessionVideo: the scene as the viewport shows
+  // it, with a caption line) written off the window's thread in a progress window with Stop
+  // (videoProgress); the window goes on simulating meanwhile. Says where it wrote it, or why not.
+  void exportVideo(const QString& file, const vaw::video::VideoOptions& options);
+  [[nodiscard]] bool exportingVideo() const;
+  [[nodiscard]] QProgressDialog* videoProgress() const;
   // A pause at each of the report's progress reports, so that a short replay lasts long enough for a GUI
   // test to click during it on any machine; 0 (no pause) unless a test sets it.
   void setReportPace(int milliseconds) { reportPaceMs_ = milliseconds; }
@@ -216,6 +226,7 @@ class MainWindow : public QMainWindow {
   void reportFinished();
   QFutureWatcher<ReportOutcome> reportWatcher_;
   std::shared_ptr<std::atomic<bool>> reportCancel_;  // set while a report is being written
+  BackgroundExport* videoExport_ = nullptr;  // the video being written, its progress window
   QProgressDialog* reportProgress_ = nullptr;
   int reportPaceMs_ = 0;
   QString reportHeading_;

@@ -1,4 +1,4 @@
-#include "gl_renderer.hpp"
+#include "vaw/gl/gl_renderer.hpp"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/gl.h>
@@ -269,7 +269,7 @@ void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const
         draw(*item.mesh, item.pose, item.color, true);
       } else {
         const view::PartFrame& p = frame->parts[item.index];
-        draw(*item.mesh, toMatrix(p.pose), p.color, true);
+        if (p.shown) draw(*item.mesh, toMatrix(p.pose), p.color, true);
       }
     }
     for (const view::DropLine& d : frame->drops) {

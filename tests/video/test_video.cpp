@@ -1,0 +1,224 @@
+// Videos (docs/sharing.md) decoded back: the frame count, size and duration the options ask for, and the
+// decoded pictures against the pictures the video was made from (the renderer's frame with its caption),
+// within what H.264's lossy coding leaves. Bad options and files that cannot be written are named errors
+// that leave no file.
+#include <gtest/gtest.h>
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libswscale/swscale.h>
+}
+
+#include <QtGui/QImage>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bundled.hpp"
+#include "files.hpp"
+#include "vaw/error.hpp"
+#include "vaw/evaluation/sequence.hpp"
+#include "vaw/scene_loader.hpp"
+#include "vaw/sim/scene.hpp"
+#include "vaw/sim/session.hpp"
+#include "vaw/video/video.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Decoded {
+  std::string codec;
+  int width = 0, height = 0;
+  double duration = 0.0;     // s, the container's
+  std::vector<QImage> frames;  // RGBA, top row first
+};
+
+// Every frame of `file` through libavformat and libavcodec, converted to RGBA as a player shows it.
+Decoded decode(const fs::path& file) {
+  Decoded d;
+  AVFormatContext* format = nullptr;
+  if (avformat_open_input(&format, file.c_str(), nullptr, nullptr) < 0) return d;
+  avformat_find_stream_info(format, nullptr);
+  const int s = av_find_best_stream(format, AVMEDIA_TYPE_VIDEO, -1, -1, nullptr, 0);
+  const AVCodecParameters* par = format->streams[s]->codecpar;
+  const AVCodec* codec = avcodec_find_decoder(par->codec_id);
+  AVCodecContext* ctx = avcodec_alloc_context3(codec);
+  avcodec_parameters_to_context(ctx, par);
+  avcodec_open2(ctx, codec, nullptr);
+  d.codec = codec->name;
+  d.width = par->width;
+  d.height = par->height;
+  d.duration = static_cast<double>(format->duration) / AV_TIME_BASE;
+  AVPacket* packet = av_packet_alloc();
+  AVFrame* frame = av_frame_alloc();
+  SwsContext* scale = nullptr;
+  const auto take = [&] {
+    while (avcodec_receive_frame(ctx, frame) == 0) {
+      scale = sws_getCachedContext(scale, frame->width, frame->height, static_cast<AVPixelFormat>(frame->format), frame->width, frame->height,
+                                   AV_PIX_FMT_RGBA, SWS_BILINEAR, nullptr, nullptr, nullptr);
+      QImage image(frame->width, frame->height, QImage::Format_RGBA8888);
+      std::uint8_t* planes[1] = {image.bits()};
+      const int strides[1] = {static_cast<int>(image.bytesPerLine())};
+      sws_scale(scale, frame->data, frame->linesize, 0, frame->height, planes, strides);
+      d.frames.push_back(image);
+    }
+  };
+  while (av_read_frame(format, packet) >= 0) {
+    if (packet->stream_index == s) {
+      avcodec_send_packet(ctx, packet);
+      take();
+    }
+    av_packet_unref(packet);
+  }
+  avcodec_send_packet(ctx, nullptr);
+  take();
+  sws_freeContext(scale);
+  av_frame_free(&frame);
+  av_packet_free(&packet);
+  avcodec_free_context(&ctx);
+  avformat_close_input(&format);
+  return d;
+}
+
+// Peak signal to noise over the colour channels, dB: above 30 dB two pictures look alike.
+double psnr(const QImage& a, const QImage& b) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    const std::uint8_t* p = a.constScanLine(y);
+    const std::uint8_t* q = b.constScanLine(y);
+    for (int x = 0; x < a.width(); ++x)
+      for (int c = 0; c < 3; ++c, ++n) {
+        const double e = static_cast<double>(p[4 * x + c]) - static_cast<double>(q[4 * x + c]);
+        sum += e * e;
+      }
+  }
+  const double mse = sum / static_cast<double>(n);
+  return mse > 0.0 ? 10.0 * std::log10(255.0 * 255.0 / mse) : 99.0;
+}
+
+// The bundled scene the session was recorded on, checked to be the one.
+std::shared_ptr<const vaw::sim::Scene> sceneOf(const vaw::sim::Session& session) {
+  auto scene = vaw::sim::Scene::build(vaw::test::loadBundled("sleeve-on-shaft.vaw.json"));
+  vaw::sim::checkScene(session, *scene);
+  return scene;
+}
+
+bool leftovers(const fs::path& dir) {
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().find(".writing") != std::string::npos) return true;
+  return false;
+}
+
+}  // namespace
+
+// The sleeve turned off its shaft (a recorded session), its first two seconds at 10 frames a second.
+TEST(Video, ASessionDecodesBackAsTheFramesItWasMadeFrom) {
+  const vaw::sim::Session session = vaw::sim::loadSession(fs::path(VAW_SOURCE_DIR) / "tests/sim/data/sleeve-turnover-v1.vaw-session.json");
+  const auto scene = sceneOf(session);
+  vaw::video::VideoOptions o;
+  o.width = 320;
+  o.height = 180;
+  o.fps = 10;
+  o.to = 2.0;
+  const fs::path file = vaw::test::tempDir() / "sleeve.mp4";
+  std::vector<double> heard;
+  const vaw::video::VideoResult r = vaw::video::writeSessionVideo(scene, session, file, o, [&](double f, const std::string&) {
+    heard.push_back(f);
+    return true;
+  });
+  EXPECT_EQ(r.frames, 21);  // 0, 0.1, ..., 2.0 s
+  EXPECT_EQ(r.encoder, "libx264");
+  ASSERT_FALSE(heard.empty());
+  EXPECT_DOUBLE_EQ(heard.back(), 1.0);
+  const Decoded d = decode(file);
+  EXPECT_EQ(d.codec, "h264");
+  EXPECT_EQ(d.width, 320);
+  EXPECT_EQ(d.height, 180);
+  ASSERT_EQ(d.frames.size(), 21U);
+  EXPECT_NEAR(d.duration, 2.1, 0.01);
+  // The first and the middle frame, decoded, against the pictures they were made from: the scene at rest
+  // and the base being turned, each with its caption.
+  for (const std::int64_t k : {0, 10}) {
+    const QImage made = vaw::video::sessionPicture(scene, session, o, k).convertToFormat(QImage::Format_RGBA8888);
+    ASSERT_EQ(made.size(), d.frames[static_cast<std::size_t>(k)].size());
+    const double db = psnr(made, d.frames[static_cast<std::size_t>(k)]);
+    std::printf("frame %lld decoded against the picture made: %.1f dB\n", static_cast<long long>(k), db);
+    EXPECT_GT(db, 30.0) << "frame " << k;
+  }
+  // Frames apart in time differ: the video moves.
+  EXPECT_LT(psnr(d.frames[0], d.frames[20]), 30.0);
+  EXPECT_FALSE(leftovers(file.parent_path()));
+}
+
+// The bundled bracket's order: one step after another, two seconds each at 5 frames a second.
+TEST(Video, AnOrderPlaysEveryStepInItsTurn) {
+  const auto scene = vaw::sim::Scene::build(vaw::loadAny(vaw::test::resources() / "step" / "bolted-bracket.stp", vaw::test::importers()));
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(scene->assembly());
+  ASSERT_TRUE(plan.complete());
+  vaw::video::VideoOptions o;
+  o.width = 320;
+  o.height = 180;
+  o.fps = 5;
+  o.stepSeconds = 1.0;
+  const fs::path file = vaw::test::tempDir() / "order.mp4";
+  const vaw::video::VideoResult r = vaw::video::writeOrderVideo(scene, plan, file, o);
+  const auto expected = static_cast<std::int64_t>(plan.order.size()) * 5 + 1;
+  EXPECT_EQ(r.frames, expected);
+  const Decoded d = decode(file);
+  ASSERT_EQ(static_cast<std::int64_t>(d.frames.size()), expected);
+  // Each step adds a part: the picture at the end of a step differs from the one at its start.
+  for (std::size_t i = 1; i < plan.order.size(); ++i)
+    EXPECT_LT(psnr(d.frames[5 * i], d.frames[5 * i + 4]), 45.0) << "step " << i;
+}
+
+TEST(Video, WhatCannotBeWrittenIsANamedErrorAndLeavesNoFile) {
+  const vaw::sim::Session session = vaw::sim::loadSession(fs::path(VAW_SOURCE_DIR) / "tests/sim/data/sleeve-turnover-v1.vaw-session.json");
+  const auto scene = sceneOf(session);
+  vaw::video::VideoOptions o;
+  o.width = 160;
+  o.height = 90;
+  o.fps = 5;
+  // A folder that is not there.
+  const fs::path missing = vaw::test::tempDir() / "no-such-folder" / "v.mp4";
+  try {
+    (void)vaw::video::writeSessionVideo(scene, session, missing, o);
+    FAIL() << "written into a folder that does not exist";
+  } catch (const vaw::OutputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such-folder/v.mp4: not written"), std::string::npos) << e.what();
+  }
+  // An odd height, a span outside the recording, a part the scene lacks: named, nothing written.
+  const fs::path file = vaw::test::tempDir() / "bad.mp4";
+  vaw::video::VideoOptions odd = o;
+  odd.height = 91;
+  EXPECT_THROW((void)vaw::video::writeSessionVideo(scene, session, file, odd), vaw::InputError);
+  vaw::video::VideoOptions late = o;
+  late.from = 1e4;
+  try {
+    (void)vaw::video::writeSessionVideo(scene, session, file, late);
+    FAIL() << "a span after the recording was taken";
+  } catch (const vaw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("from/to"), std::string::npos) << e.what();
+  }
+  vaw::video::VideoOptions follow = o;
+  follow.camera = *vaw::video::parseCamera("follow gear");
+  try {
+    (void)vaw::video::writeSessionVideo(scene, session, file, follow);
+    FAIL() << "a camera following a part the scene lacks was taken";
+  } catch (const vaw::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"gear\""), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(vaw::video::parseCamera("sideways"));
+  // Stopped after its third frame: no file, nothing half-written.
+  int frames = 0;
+  EXPECT_THROW((void)vaw::video::writeSessionVideo(scene, session, file, o, [&](double, const std::string&) { return ++frames < 3; }),
+               vaw::LoadCancelled);
+  EXPECT_EQ(frames, 3);
+  EXPECT_FALSE(fs::exists(file));
+  EXPECT_FALSE(leftovers(file.parent_path()));
+}

@@ -1,0 +1,70 @@
+#pragma once
+// A recorded session or an assembly's planned order as a video (docs/sharing.md): every frame the
+// renderer-neutral picture of the world at that time (view::Frame, drawn by the OpenGL renderer the headset
+// uses, in a context with no display), a caption line under it (the time, what is in hand, each state
+// change as it happens, the scene's name), encoded as H.264 in an MP4 file. No display and no GPU are
+// needed; a GPU's driver is used where EGL offers one.
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "vaw/evaluation/sequence.hpp"
+#include "vaw/importer.hpp"
+#include "vaw/sim/scene.hpp"
+#include "vaw/sim/session.hpp"
+
+class QImage;
+
+namespace vaw::video {
+
+// Where the camera looks from. Auto: from the window's home view, every part drawn in the picture where it
+// is now (as the window's F frames them), the camera easing to each new framing so that a carried part, a
+// lifted base or a dropped part stays in view. Follow: close on one part, easing after it. View: as Auto
+// from a fixed side ("iso", the home view; "front", "back", "left", "right", "top").
+struct Camera {
+  enum class Kind : std::uint8_t { Auto, Follow, View };
+  Kind kind = Kind::Auto;
+  std::string part;  // Follow
+  std::string view;  // View
+};
+
+// "auto", "follow PART", or a view's name: the camera, or std::nullopt when `text` is none of them.
+std::optional<Camera> parseCamera(const std::string& text);
+inline constexpr const char* kCameraChoices = "auto, follow PART, iso, front, back, left, right or top";
+
+struct VideoOptions {
+  int width = 1280, height = 720;  // pixels, both even
+  int fps = 30;
+  std::optional<double> from, to;  // s of the recording (or of the order played); unset: its start, its end
+  double speed = 1.0;              // seconds of recording per second of video
+  Camera camera;
+  double stepSeconds = 2.0;        // an order's: the time each step takes
+};
+
+struct VideoResult {
+  std::int64_t frames = 0;
+  double seconds = 0.0;  // of video
+  std::string encoder;   // FFmpeg's name for it ("libx264")
+  std::string gl;        // the OpenGL renderer and EGL's platform it drew with
+};
+
+// `progress` is told the fraction done after each frame and stops the video by returning false (nothing
+// is written then: LoadCancelled). Throws vaw::OutputError naming the file for a video that cannot be
+// written, and vaw::InputError for options that do not fit (an odd size, a span outside the recording,
+// a part the scene lacks). The file appears whole or not at all.
+VideoResult writeSessionVideo(const std::shared_ptr<const sim::Scene>& scene, const sim::Session& session, const std::filesystem::path& file,
+                              const VideoOptions& options, const ProgressFn& progress = {});
+// The planned order played (as the report's 3D view and `vaw-sim export --order` play it): the base in
+// place, then each part in its step's turn flying home along its way, lit, with the step's number and name.
+VideoResult writeOrderVideo(const std::shared_ptr<const sim::Scene>& scene, const eval::SequencePlan& plan, const std::filesystem::path& file,
+                            const VideoOptions& options, const ProgressFn& progress = {});
+
+// Frame `index` of the session's video exactly as writeSessionVideo encodes it (caption and camera
+// included), before encoding: what the tests compare the decoded video with.
+QImage sessionPicture(const std::shared_ptr<const sim::Scene>& scene, const sim::Session& session, const VideoOptions& options,
+                      std::int64_t index);
+
+}  // namespace vaw::video
