@@ -1,6 +1,6 @@
 // Every background task of the window made to fail in the middle of its work, as an allocation failing
 // there would: an import, the order search, the check at rest, the near misses, the report, a sweep with its
-// clearance and the export of a swept volume. Each is started as a person starts it; each says why it
+// clearance, the export of a swept volume and a video of the recording. Each is started as a person starts it; each says why it
 // failed ("not enough memory"), the window answers, the assembly and the recorded session are as they
 // were, and the same task then runs to its end.
 //
@@ -108,6 +108,7 @@ class TestFaults : public QObject {
   void aFailedSearchForNearMissesSaysWhy();
   void aFailedReportSaysWhyAndLeavesNoReport();
   void aFailedSweepOrExportSaysWhyAndKeepsTheSession();
+  void aFailedVideoSaysWhyAndLeavesNoFile();
 
  private:
   [[nodiscard]] const vaw::Assembly* assembly() const { return controller_->assembly(); }
@@ -327,6 +328,40 @@ void TestFaults::aFailedSweepOrExportSaysWhyAndKeepsTheSession() {
   QCOMPARE(exported.last().at(1).toString(), QString());
   QVERIFY(QFile::exists(target));
   QCOMPARE(sim.recorder().length(), recorded);
+}
+
+// A second of the sleeve's scene recorded, then written as a video: it fails at once and deep in its frames
+// (the 4,000th allocation of the 4,000 to 8,000 the video makes),
+// each time said with no file left, the recording as it was; then the same video is written.
+void TestFaults::aFailedVideoSaysWhyAndLeavesNoFile() {
+  QVERIFY(bench_.open(sleeveScene()));
+  auto& sim = window_->simulation();
+  sim.play();
+  QTRY_VERIFY_WITH_TIMEOUT(sim.recorder().endTime() >= 1.0, 20000);
+  sim.pause();
+  const std::uint64_t recorded = sim.recorder().length();
+  QTemporaryDir keep;
+  QVERIFY(keep.isValid());
+  const QString target = keep.filePath(QStringLiteral("sleeve.mp4"));
+  vaw::video::VideoOptions options;
+  options.width = 320;
+  options.height = 180;
+  options.fps = 10;
+  for (const long depth : {0L, 4000L}) {
+    const Failing fault("video", depth);
+    window_->exportVideo(target, options);
+    QVERIFY(window_->exportingVideo());
+    QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingVideo(), 60000);
+    QVERIFY2(fault.happened(), qPrintable(QStringLiteral("the video allocated fewer than %1 times").arg(depth)));
+    const QString said = window_->statusBar()->currentMessage();
+    QVERIFY2(said == QStringLiteral("Could not write the video %1: not enough memory").arg(target), qPrintable(said));
+    QCOMPARE(QDir(keep.path()).entryList(QDir::Files | QDir::Hidden), QStringList());
+    QVERIFY(answers());
+  }
+  QCOMPARE(sim.recorder().length(), recorded);
+  window_->exportVideo(target, options);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingVideo(), 60000);
+  QVERIFY2(QFile::exists(target), qPrintable(window_->statusBar()->currentMessage()));
 }
 
 QTEST_MAIN(TestFaults)
