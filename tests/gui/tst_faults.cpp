@@ -1,6 +1,6 @@
 // Every background task of the window made to fail in the middle of its work, as an allocation failing
 // there would: an import, the order search, the check at rest, the near misses, the report, a sweep with its
-// clearance, the export of a swept volume and a video of the recording. Each is started as a person starts it; each says why it
+// clearance, the export of a swept volume, and a video and a glTF file of the recording. Each is started as a person starts it; each says why it
 // failed ("not enough memory"), the window answers, the assembly and the recorded session are as they
 // were, and the same task then runs to its end.
 //
@@ -108,7 +108,7 @@ class TestFaults : public QObject {
   void aFailedSearchForNearMissesSaysWhy();
   void aFailedReportSaysWhyAndLeavesNoReport();
   void aFailedSweepOrExportSaysWhyAndKeepsTheSession();
-  void aFailedVideoSaysWhyAndLeavesNoFile();
+  void aFailedVideoOrGltfSaysWhyAndLeavesNoFile();
 
  private:
   [[nodiscard]] const vaw::Assembly* assembly() const { return controller_->assembly(); }
@@ -330,10 +330,13 @@ void TestFaults::aFailedSweepOrExportSaysWhyAndKeepsTheSession() {
   QCOMPARE(sim.recorder().length(), recorded);
 }
 
-// A second of the sleeve's scene recorded, then written as a video: it fails at once and deep in its frames
-// (the 4,000th allocation of the 4,000 to 8,000 the video makes),
-// each time said with no file left, the recording as it was; then the same video is written.
-void TestFaults::aFailedVideoSaysWhyAndLeavesNoFile() {
+// A second of the sleeve's scene recorded, then written as a video and as glTF: each fails at once and later
+// in its work (the video at the 4,000th of the 4,000 to 8,000 allocations it makes, the glTF file at its
+// 40th), each time said with no file left, the recording as it was; then each is written. Deeper in the glTF
+// file an allocation that fails inside nlohmann-json ends the process: its values' destructor allocates
+// (json_value::destroy keeps the children on a std::vector), and an assignment that fails half-way leaves a
+// value its destructor cannot free (docs/architecture.md, "Background work").
+void TestFaults::aFailedVideoOrGltfSaysWhyAndLeavesNoFile() {
   QVERIFY(bench_.open(sleeveScene()));
   auto& sim = window_->simulation();
   sim.play();
@@ -362,6 +365,24 @@ void TestFaults::aFailedVideoSaysWhyAndLeavesNoFile() {
   window_->exportVideo(target, options);
   QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingVideo(), 60000);
   QVERIFY2(QFile::exists(target), qPrintable(window_->statusBar()->currentMessage()));
+
+  // The same recording as glTF.
+  const QString glb = keep.filePath(QStringLiteral("sleeve.glb"));
+  for (const long depth : {0L, 40L}) {
+    const Failing fault("gltf", depth);
+    window_->exportGltf(glb);
+    QVERIFY(window_->exportingGltf());
+    QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingGltf(), 60000);
+    QVERIFY2(fault.happened(), qPrintable(QStringLiteral("the glTF export allocated fewer than %1 times").arg(depth)));
+    const QString said = window_->statusBar()->currentMessage();
+    QVERIFY2(said == QStringLiteral("Could not write the glTF file %1: not enough memory").arg(glb), qPrintable(said));
+    QVERIFY(!QFile::exists(glb));
+    QVERIFY(answers());
+  }
+  window_->exportGltf(glb);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingGltf(), 60000);
+  QVERIFY2(QFile::exists(glb), qPrintable(window_->statusBar()->currentMessage()));
+  QCOMPARE(sim.recorder().length(), recorded);
 }
 
 QTEST_MAIN(TestFaults)

@@ -109,6 +109,7 @@ class TestSimulation : public QObject {
   void fallingBehindIsShownWithTheRealRate();
   void carriedPathShowsItsSweptVolumeAndClearance();
   void theRecordingExportsAsAVideo();
+  void theRecordingExportsAsGltf();
 
  private:
   [[nodiscard]] vaw::ui::Viewport* viewport() const { return window_->viewport(); }
@@ -124,6 +125,8 @@ class TestSimulation : public QObject {
   void lookFrom(const Eigen::Vector3d& eye, const Eigen::Vector3d& centre);
   void screenshot(const QString& name);
   void setSpin(QDoubleSpinBox* box, double value);
+  // As a person picks it: File clicked in the menu bar, then the item whose action is named `action`.
+  void clickFileMenuItem(const QString& action);
 
   vaw::guitest::Workbench bench_;
   std::unique_ptr<AssemblyController>& controller_ = bench_.controller;
@@ -887,6 +890,19 @@ void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   QVERIFY(window_->partDock()->model()->value(QStringLiteral("Swept volume")).isEmpty());
 }
 
+void TestSimulation::clickFileMenuItem(const QString& action) {
+  QMenuBar* bar = window_->menuBar();
+  QAction* fileMenu = bar->actions().front();
+  QTest::mouseClick(bar, Qt::LeftButton, {}, bar->actionGeometry(fileMenu).center());
+  QMenu* menu = fileMenu->menu();
+  QTRY_VERIFY_WITH_TIMEOUT(menu->isVisible(), 3000);
+  QAction* item = nullptr;
+  for (QAction* a : menu->actions())
+    if (a->objectName() == action) item = a;
+  QVERIFY2(item != nullptr, qPrintable(action));
+  QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(item).center());
+}
+
 // File > Export Video as a person uses it: the menu clicked, the size and frame rate chosen in the dialog,
 // the file named in the file dialog. A first export at the largest size is stopped from its progress window
 // (said, no file); a small one is written while the simulation goes on, and ffprobe reads it back as H.264
@@ -906,17 +922,7 @@ void TestSimulation::theRecordingExportsAsAVideo() {
       vaw::guitest::whenModal([file](QWidget* w) { vaw::guitest::answerFileDialog(w, file); });
       QTest::mouseClick(dialog->findChild<QDialogButtonBox*>()->button(QDialogButtonBox::Ok), Qt::LeftButton);
     });
-    QMenuBar* bar = window_->menuBar();
-    QAction* fileMenu = bar->actions().front();
-    QTest::mouseClick(bar, Qt::LeftButton, {}, bar->actionGeometry(fileMenu).center());
-    QMenu* menu = fileMenu->menu();
-    QTRY_VERIFY_WITH_TIMEOUT(menu->isVisible(), 3000);
-    QAction* video = menu->findChild<QAction*>(QStringLiteral("exportVideoAction"));
-    if (video == nullptr)
-      for (QAction* a : menu->actions())
-        if (a->objectName() == QStringLiteral("exportVideoAction")) video = a;
-    QVERIFY(video != nullptr);
-    QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(video).center());
+    clickFileMenuItem(QStringLiteral("exportVideoAction"));
     QTRY_VERIFY_WITH_TIMEOUT(window_->exportingVideo(), 10000);
   };
 
@@ -955,6 +961,33 @@ void TestSimulation::theRecordingExportsAsAVideo() {
                                           QStringLiteral("stream=codec_name,width,height,nb_read_frames"), QStringLiteral("-of"), QStringLiteral("csv=p=0"), small});
   QVERIFY(probe.waitForFinished(30000));
   QCOMPARE(QString::fromUtf8(probe.readAllStandardOutput()).trimmed(), QStringLiteral("h264,640,360,%1").arg(frames));
+}
+
+// File > Export glTF: the sleeve carried with the mouse, then the recording written as one glTF binary
+// through the menu and the file dialog, said in the status bar; the file is glTF 2.0 (its magic and
+// version) and holds the carry's animation.
+void TestSimulation::theRecordingExportsAsGltf() {
+  open(QStringLiteral("sleeve-on-shaft.vaw.json"));
+  const PartId sleeve = *assembly().findPart("sleeve");
+  Eigen::Isometry3d lifted = world().part(sleeve).pose;
+  lifted.translation() += Eigen::Vector3d(-0.06, 0.04, -0.11);
+  vaw::guitest::carryWithMouse(*window_, sleeve, lifted, "sleeve");
+  if (QTest::currentTestFailed()) return;
+  sim().pause();
+  const QString file = keep_.filePath(QStringLiteral("gear.glb"));
+  vaw::guitest::whenModal([file](QWidget* w) { vaw::guitest::answerFileDialog(w, file); });
+  clickFileMenuItem(QStringLiteral("exportGltfAction"));
+  if (QTest::currentTestFailed()) return;
+  QTRY_VERIFY_WITH_TIMEOUT(QFile::exists(file) && !window_->exportingGltf(), 30000);
+  const QString said = window_->statusBar()->currentMessage();
+  QVERIFY2(said.startsWith(QStringLiteral("Wrote the glTF file to ") + file + QStringLiteral(" (")) && said.contains(QStringLiteral(" s of the recording")),
+           qPrintable(said));
+  QFile glb(file);
+  QVERIFY(glb.open(QIODevice::ReadOnly));
+  const QByteArray bytes = glb.readAll();
+  QVERIFY(bytes.startsWith("glTF"));
+  QCOMPARE(static_cast<int>(bytes[4]), 2);  // version 2
+  QVERIFY2(bytes.contains("\"animations\""), "the recording's animation is in the file");
 }
 
 QTEST_MAIN(TestSimulation)

@@ -30,6 +30,7 @@
 #include "background_export.hpp"
 #include "format.hpp"
 #include "vaw/error.hpp"
+#include "vaw/report/gltf.hpp"
 #include "vaw/report/report.hpp"
 #include "vaw/evaluation/session_stats.hpp"
 #include "vaw/sim/scene_file.hpp"
@@ -502,25 +503,29 @@ void MainWindow::exportVideoDialog() {
   exportVideo(file, options);
 }
 
+BackgroundExport* MainWindow::exporter(BackgroundExport*& slot, const char* task, const QString& title, const QString& what) {
+  if (slot != nullptr) return slot;
+  slot = new BackgroundExport(this, task, title, QStringLiteral("%1Progress").arg(QLatin1String(task)));
+  connect(slot, &BackgroundExport::finished, this, [this, what](const BackgroundExport::Outcome& out) {
+    QString text;
+    if (out.cancelled) {
+      text = tr("Stopped: no %1 written to %2").arg(what, out.target);
+      message(static_cast<int>(MessageLogModel::Severity::Info), text);
+    } else if (!out.error.isEmpty()) {
+      text = tr("Could not write the %1 %2: %3").arg(what, out.target, out.error);
+      message(static_cast<int>(MessageLogModel::Severity::Error), text);
+    } else {
+      text = tr("Wrote the %1 to %2 (%3)").arg(what, out.target, out.written);
+      message(static_cast<int>(MessageLogModel::Severity::Info), text);
+    }
+    statusBar()->showMessage(text, 15000);
+  });
+  return slot;
+}
+
 void MainWindow::exportVideo(const QString& file, const vaw::video::VideoOptions& options) {
   if (!simulation_->hasWorld() || simulation_->recorder().length() == 0) return;
-  if (videoExport_ == nullptr) {
-    videoExport_ = new BackgroundExport(this, "video", tr("Export Video"), QStringLiteral("videoProgress"));
-    connect(videoExport_, &BackgroundExport::finished, this, [this](const BackgroundExport::Outcome& out) {
-      QString text;
-      if (out.cancelled) {
-        text = tr("Stopped: no video written to %1").arg(out.target);
-        message(static_cast<int>(MessageLogModel::Severity::Info), text);
-      } else if (!out.error.isEmpty()) {
-        text = tr("Could not write the video %1: %2").arg(out.target, out.error);
-        message(static_cast<int>(MessageLogModel::Severity::Error), text);
-      } else {
-        text = tr("Wrote the video to %1 (%2)").arg(out.target, out.written);
-        message(static_cast<int>(MessageLogModel::Severity::Info), text);
-      }
-      statusBar()->showMessage(text, 15000);
-    });
-  }
+  exporter(videoExport_, "video", tr("Export Video"), tr("video"));
   // What the worker reads, copied: the window goes on simulating and recording meanwhile.
   const std::shared_ptr<const vaw::sim::Scene> scene = simulation_->recorder().scenePtr();
   auto session = std::make_shared<const vaw::sim::Session>(simulation_->recorder().session());
@@ -531,6 +536,41 @@ void MainWindow::exportVideo(const QString& file, const vaw::video::VideoOptions
   });
   const QString text = started ? tr("Writing the video %1...").arg(file)
                                : tr("No video written to %1: another is being written; stop it or wait for it").arg(file);
+  if (!started) message(static_cast<int>(MessageLogModel::Severity::Error), text);
+  statusBar()->showMessage(text, started ? 0 : 15000);
+}
+
+bool MainWindow::exportingGltf() const { return gltfExport_ != nullptr && gltfExport_->running(); }
+
+void MainWindow::exportGltfDialog() {
+  if (controller_.assembly() == nullptr || !simulation_->hasWorld()) return;
+  const QString suggested = QFileInfo(controller_.currentPath()).absolutePath() + QLatin1Char('/') +
+                            QFileInfo(controller_.currentPath()).completeBaseName() + QStringLiteral(".glb");
+  QString file = QFileDialog::getSaveFileName(this, tr("Export glTF"), suggested, tr("glTF 2.0 binary (*.glb)"));
+  if (file.isEmpty()) return;
+  if (!file.endsWith(QStringLiteral(".glb"), Qt::CaseInsensitive)) file += QStringLiteral(".glb");
+  exportGltf(file);
+}
+
+void MainWindow::exportGltf(const QString& file) {
+  if (!simulation_->hasWorld()) return;
+  BackgroundExport* job = exporter(gltfExport_, "gltf", tr("Export glTF"), tr("glTF file"));
+  const std::shared_ptr<const vaw::sim::Scene> scene = simulation_->recorder().scenePtr();
+  const bool recorded = simulation_->recorder().length() > 0;
+  auto session = std::make_shared<const vaw::sim::Session>(simulation_->recorder().session());
+  const std::filesystem::path where(QFile::encodeName(file).toStdString());
+  const bool started = job->start(file, tr("Writing %1").arg(file), [scene, session, recorded, where](const vaw::ProgressFn& progress) {
+    if (progress && !progress(0.0, "replaying the recording")) throw vaw::LoadCancelled();
+    // The recording sampled as `vaw-sim export` samples it (30 a second, thinned within 0.1 mm).
+    const vaw::report::Motion motion = recorded ? vaw::report::sessionMotion(scene, *session, 30.0) : vaw::report::Motion{};
+    if (progress && !progress(0.8, "writing the file")) throw vaw::LoadCancelled();
+    vaw::report::writeGlb(where, scene->assembly(), motion);
+    std::error_code ec;
+    const auto bytes = std::filesystem::file_size(where, ec);
+    return (recorded ? tr("%1 s of the recording").arg(motion.duration, 0, 'f', 1) : tr("the scene at rest")) +
+           tr(", %1 kB").arg(static_cast<double>(ec ? 0 : bytes) / 1e3, 0, 'f', 1);
+  });
+  const QString text = started ? tr("Writing %1...").arg(file) : tr("No glTF file written to %1: another is being written").arg(file);
   if (!started) message(static_cast<int>(MessageLogModel::Severity::Error), text);
   statusBar()->showMessage(text, started ? 0 : 15000);
 }

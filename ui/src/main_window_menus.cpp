@@ -64,6 +64,7 @@ void MainWindow::createMenus() {
   file->addAction(tr("Export Timeline as &CSV..."), timelineDock_, &TimelineDock::exportCsvRequested);
   QAction* report = file->addAction(tr("Export R&eport..."), this, &MainWindow::exportReportDialog);
   file->addAction(tr("Export &Video..."), this, &MainWindow::exportVideoDialog)->setObjectName(QStringLiteral("exportVideoAction"));
+  file->addAction(tr("Export &glTF..."), this, &MainWindow::exportGltfDialog)->setObjectName(QStringLiteral("exportGltfAction"));
   report->setObjectName(QStringLiteral("exportReportAction"));
   report->setToolTip(tr("The evaluation report: the order, each part's way home, this session's figures (HTML, CSV, JSON)"));
   file->addSeparator();

@@ -112,6 +112,12 @@ class MainWindow : public QMainWindow {
   void exportVideo(const QString& file, const vaw::video::VideoOptions& options);
   [[nodiscard]] bool exportingVideo() const;
   [[nodiscard]] QProgressDialog* videoProgress() const;
+  // File > Export glTF: the file asked for, then exportGltf.
+  void exportGltfDialog();
+  // The recording so far, or the scene at rest when nothing is recorded, as one glTF 2.0 binary
+  // (vaw::report::writeGlb; docs/sharing.md), off the window's thread like a video.
+  void exportGltf(const QString& file);
+  [[nodiscard]] bool exportingGltf() const;
   // A pause at each of the report's progress reports, so that a short replay lasts long enough for a GUI
   // test to click during it on any machine; 0 (no pause) unless a test sets it.
   void setReportPace(int milliseconds) { reportPaceMs_ = milliseconds; }
@@ -227,6 +233,9 @@ class MainWindow : public QMainWindow {
   QFutureWatcher<ReportOutcome> reportWatcher_;
   std::shared_ptr<std::atomic<bool>> reportCancel_;  // set while a report is being written
   BackgroundExport* videoExport_ = nullptr;  // the video being written, its progress window
+  BackgroundExport* gltfExport_ = nullptr;   // the glTF file being written
+  // A BackgroundExport for `task`, made at its first use, whose outcome is said as "<what> FILE".
+  BackgroundExport* exporter(BackgroundExport*& slot, const char* task, const QString& title, const QString& what);
   QProgressDialog* reportProgress_ = nullptr;
   int reportPaceMs_ = 0;
   QString reportHeading_;
