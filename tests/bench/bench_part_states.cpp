@@ -18,6 +18,7 @@
 
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/world.hpp"
+#include "vaw/units.hpp"
 
 namespace {
 
@@ -25,7 +26,7 @@ using vaw::interact::PartState;
 using vaw::sim::Input;
 using vaw::sim::World;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 const vaw::Assembly& bundled(const std::string& name) {
   static vaw::ImporterRegistry importers;

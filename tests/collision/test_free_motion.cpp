@@ -18,7 +18,7 @@ using ctest::at;
 
 namespace {
 
-constexpr double kTol = 1e-5;
+constexpr double kMotionTol = 1e-5;
 
 Eigen::Isometry3d turnedAbout(const Eigen::Vector3d& axis, double angle) {
   Eigen::Isometry3d r = Eigen::Isometry3d::Identity();
@@ -71,25 +71,25 @@ TEST(FreeMotion, SleeveOnItsShaftFreeBetweenTheBlockAndTheShaftsEnd) {
     const FreeMotion f = w.freeMotion(s, tilted(tilt) * inBase);
     // Down to the block's top face (half a tolerance into it); up to where the shaft's chamfer and cap
     // begin (the sleeve's top at 159 mm), which lie within its band.
-    EXPECT_NEAR(f.axialMin, -0.04 - 0.5 * kTol, 1e-9) << tilt;
+    EXPECT_NEAR(f.axialMin, -0.04 - 0.5 * kMotionTol, 1e-9) << tilt;
     EXPECT_EQ(f.atMin, FreeMotion::Bound::Obstacle);
-    EXPECT_NEAR(f.axialMax, 0.159 - 0.12 + 0.5 * kTol, 1e-6) << tilt;
+    EXPECT_NEAR(f.axialMax, 0.159 - 0.12 + 0.5 * kMotionTol, 1e-6) << tilt;
     EXPECT_EQ(f.atMax, FreeMotion::Bound::Obstacle);
     checkAxisClaim(w, s, tilted(tilt), inBase, f, Eigen::Vector3d::UnitZ());
     // A tolerance beyond the block's bound, the sleeve's end face is blocked by the block's top face.
-    EXPECT_TRUE(w.blocked(s, tilted(tilt) * at(0, 0, 0.08 + f.axialMin - kTol)).blocked);
+    EXPECT_TRUE(w.blocked(s, tilted(tilt) * at(0, 0, 0.08 + f.axialMin - kMotionTol)).blocked);
   }
   // Resting on the block, inside its face's span, nothing is claimed (the exact checks decide until the
   // sleeve has left it); a tolerance above it, the way down is free to the face and the way up as before.
   a.parts[*a.base].pose = Eigen::Isometry3d::Identity();
   const CollisionWorld w(a);
   const Support s = w.support(a.constraints[0]);
-  const FreeMotion resting = w.freeMotion(s, at(0, 0, 0.04 - 0.5 * kTol));
+  const FreeMotion resting = w.freeMotion(s, at(0, 0, 0.04 - 0.5 * kMotionTol));
   EXPECT_EQ(resting.axialMin, 0.0);
   EXPECT_EQ(resting.axialMax, 0.0);
-  const FreeMotion above = w.freeMotion(s, at(0, 0, 0.04 + kTol));
-  EXPECT_NEAR(above.axialMin, -1.5 * kTol, 1e-12);
-  EXPECT_NEAR(above.axialMax, 0.159 - 0.08 - kTol + 0.5 * kTol, 1e-6);
+  const FreeMotion above = w.freeMotion(s, at(0, 0, 0.04 + kMotionTol));
+  EXPECT_NEAR(above.axialMin, -1.5 * kMotionTol, 1e-12);
+  EXPECT_NEAR(above.axialMax, 0.159 - 0.08 - kMotionTol + 0.5 * kMotionTol, 1e-6);
   (void)sleeve;
 }
 
@@ -107,8 +107,8 @@ TEST(FreeMotion, InItsPlayOnABareShaftItIsFreeBetweenTheCaps) {
   ASSERT_TRUE(s.problem.empty()) << s.problem;
   const FreeMotion f = w.freeMotion(s, at(0.001, 0, 0.1));
   // The sleeve spans z = 80..120 mm; the caps are at z = 0 and 200 mm.
-  EXPECT_NEAR(f.axialMin, -0.08 - 0.5 * kTol, 1e-9);
-  EXPECT_NEAR(f.axialMax, 0.08 + 0.5 * kTol, 1e-9);
+  EXPECT_NEAR(f.axialMin, -0.08 - 0.5 * kMotionTol, 1e-9);
+  EXPECT_NEAR(f.axialMax, 0.08 + 0.5 * kMotionTol, 1e-9);
   checkAxisClaim(w, s, Eigen::Isometry3d::Identity(), at(0.001, 0, 0.1), f, Eigen::Vector3d::UnitZ());
   // Beyond its play the sleeve is off the shaft: nothing is claimed.
   const FreeMotion off = w.freeMotion(s, at(0.0011, 0, 0.1));
@@ -160,7 +160,7 @@ TEST(FreeMotion, BlockOnThePlateFreeUntilItsCentreOfMassReachesTheEdge) {
     }
     // Towards the nearest edge (+y), two tolerances and a half beyond the radius, touch is lost.
     Eigen::Isometry3d beyond = start;
-    beyond.pretranslate((f.radius + 2.5 * kTol) * e2);
+    beyond.pretranslate((f.radius + 2.5 * kMotionTol) * e2);
     EXPECT_FALSE(w.touching(s, beyond).touching);
   }
 }
@@ -181,11 +181,11 @@ TEST(FreeMotion, AWallOnTheBaseAndAnotherPartBoundIt) {
   ASSERT_TRUE(s.problem.empty()) << s.problem;
   const FreeMotion f = w.freeMotion(s, at(0.04, 0.0, 0.035));
   // The block's box spans y -20..20 mm, the crate's -80..-40 mm: 20 mm apart; the wall is 30 mm away.
-  EXPECT_NEAR(f.radius, 0.02 + 0.5 * kTol, 1e-9);
+  EXPECT_NEAR(f.radius, 0.02 + 0.5 * kMotionTol, 1e-9);
   EXPECT_EQ(f.atMax, FreeMotion::Bound::Obstacle);
   EXPECT_FALSE(w.blocked(s, at(0.04, -0.02 + 1e-6, 0.035)).blocked);
   EXPECT_TRUE(w.blocked(s, at(0.04, -0.02 - 2e-5, 0.035)).blocked) << "into the crate";
   // Moved next to the wall: bound by it.
   const FreeMotion nearWall = w.freeMotion(s, at(0.065, 0.05, 0.035));
-  EXPECT_NEAR(nearWall.radius, 0.005 + 0.5 * kTol, 1e-9);
+  EXPECT_NEAR(nearWall.radius, 0.005 + 0.5 * kMotionTol, 1e-9);
 }

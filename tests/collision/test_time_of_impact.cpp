@@ -16,7 +16,7 @@ using ctest::at;
 
 namespace {
 
-constexpr double kTol = 1e-5;
+constexpr double kImpactTol = 1e-5;
 
 double lowestZ(const CollisionWorld& w, ObjectId id, const Eigen::Isometry3d& pose) {
   double z = std::numeric_limits<double>::infinity();
@@ -49,7 +49,7 @@ Drop fly(CollisionWorld& w, PartId part, const dyn::Release& r, const Eigen::Vec
       d.hit = true;
       d.time = ev.s;
       d.other = ev.other;
-      EXPECT_LE(ev.distance, kTol);
+      EXPECT_LE(ev.distance, kImpactTol);
       break;
     }
   }
@@ -81,7 +81,7 @@ TEST(TimeOfImpact, PartDroppedOntoTheTableStopsOnItsSurface) {
         RecordProperty("drop_gap_" + std::string(primitiveTable ? "box_" : "mesh_") + std::to_string(static_cast<int>(rate)) + "Hz_g" + std::to_string(scale), ctest::um(gap));
         EXPECT_GE(gap, 0.0) << "never below the table's surface";
         EXPECT_LE(gap, 1e-4) << "within 0.1 mm of it";
-        EXPECT_LE(gap, kTol);
+        EXPECT_LE(gap, kImpactTol);
         EXPECT_NEAR(d.time, std::sqrt(2.0 * 1.0 / (scale * kStandardGravity)), 1e-4) << "the fall time of 1 m";
       }
     }
@@ -101,7 +101,7 @@ TEST(TimeOfImpact, TumblingPartStopsAtItsLowestCorner) {
   ASSERT_TRUE(d.hit);
   const double gap = lowestZ(w, ObjectId::part(block), d.pose);
   EXPECT_GE(gap, 0.0);
-  EXPECT_LE(gap, kTol);
+  EXPECT_LE(gap, kImpactTol);
 }
 
 TEST(TimeOfImpact, FastPartDoesNotTunnelThroughAThinPlate) {
@@ -123,7 +123,7 @@ TEST(TimeOfImpact, FastPartDoesNotTunnelThroughAThinPlate) {
   const double gap = 0.099 - front;
   RecordProperty("thin_plate_gap", ctest::um(gap));
   EXPECT_GT(gap, 0.0);
-  EXPECT_LE(gap, kTol);
+  EXPECT_LE(gap, kImpactTol);
   EXPECT_LT(ev.evaluations, 50) << "advancement converges in a few distance queries";
   RecordProperty("thin_plate_distance_queries", ev.evaluations);
 }
@@ -178,7 +178,7 @@ TEST(TimeOfImpact, HingeRotationStopsAtAStop) {
   }
   const double err = (ev.s - expected) * arm;  // along the arc at the contact
   RecordProperty("hinge_error", ctest::um(err));
-  EXPECT_LE(std::abs(err), 3 * kTol);
+  EXPECT_LE(std::abs(err), 3 * kImpactTol);
   EXPECT_LE(std::abs(err), 1e-4);
 }
 

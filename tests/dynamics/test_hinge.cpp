@@ -5,12 +5,13 @@
 
 #include "vaw/dynamics/gravity.hpp"
 #include "vaw/dynamics/hinge.hpp"
+#include "vaw/units.hpp"
 
 using namespace vaw::dyn;
 
 namespace {
 
-constexpr double g0 = 9.80665;
+using vaw::kStandardGravity;
 
 // The paper-like gear (docs/physics.md, "Stability limits"): solid disk r = 0.05 m, m = 0.3 kg, CM 0.02 m off the axis.
 struct Gear {
@@ -60,7 +61,7 @@ TEST(Hinge, ParallelAxisInertiaOfThePaperGear) {
   EXPECT_NEAR(h.inertia(), 0.5 * 0.3 * 0.05 * 0.05 + 0.3 * 0.02 * 0.02, 1e-18);
   EXPECT_NEAR(h.inertia(), 4.95e-4, 1e-18);
   EXPECT_NEAR(h.armLength(), 0.02, 1e-16);
-  EXPECT_NEAR(h.naturalFrequency(h.torque(Eigen::Matrix3d::Identity(), worldGravity())), std::sqrt(0.3 * g0 * 0.02 / 4.95e-4), 1e-12);
+  EXPECT_NEAR(h.naturalFrequency(h.torque(Eigen::Matrix3d::Identity(), worldGravity())), std::sqrt(0.3 * kStandardGravity * 0.02 / 4.95e-4), 1e-12);
 }
 
 TEST(Hinge, SmallAnglePeriod) {
@@ -68,7 +69,7 @@ TEST(Hinge, SmallAnglePeriod) {
   // 1 + theta0^2 / 16 = 1 + 1.9e-5, inside the 5e-5 relative tolerance.
   const double theta0 = M_PI / 180.0;
   const Hinge h = Gear{}.make(theta0);
-  const double T0 = 2 * M_PI * std::sqrt(h.inertia() / (0.3 * g0 * 0.02));
+  const double T0 = 2 * M_PI * std::sqrt(h.inertia() / (0.3 * kStandardGravity * 0.02));
   // The angle coordinate starts at 0 and swings to -2 theta0; its centre is -theta0.
   const Trace r = simulate(h, 10.0, 1e-3, Method::RK4);
   const auto c = crossings(r, -theta0);
@@ -80,7 +81,7 @@ TEST(Hinge, LargeAnglePeriodMatchesTheEllipticIntegral) {
   for (double deg : {90.0, 150.0}) {
     const double theta0 = deg * M_PI / 180.0;
     const Hinge h = Gear{}.make(theta0);
-    const double w0 = std::sqrt(0.3 * g0 * 0.02 / h.inertia());
+    const double w0 = std::sqrt(0.3 * kStandardGravity * 0.02 / h.inertia());
     const double T = 4.0 / w0 * std::comp_ellint_1(std::sin(theta0 / 2));
     const Trace r = simulate(h, 10.0, 2e-4, Method::RK4);
     const auto c = crossings(r, -theta0);
@@ -164,7 +165,7 @@ TEST(Hinge, TiltedAxisFeelsOnlyTheTorqueAlongIt) {
   const HingeTorque flat = h.torque(Eigen::Matrix3d::Identity(), worldGravity());
   const HingeTorque tilted = h.torque(base, worldGravity());
   EXPECT_NEAR(std::hypot(tilted.A, tilted.B), std::cos(tilt) * std::hypot(flat.A, flat.B), 1e-15);
-  EXPECT_NEAR(std::hypot(flat.A, flat.B), 0.3 * g0 * 0.02, 1e-15);
+  EXPECT_NEAR(std::hypot(flat.A, flat.B), 0.3 * kStandardGravity * 0.02, 1e-15);
 }
 
 TEST(Hinge, DegenerateGeometryIsDefined) {

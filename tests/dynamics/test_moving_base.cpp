@@ -8,11 +8,12 @@
 #include "vaw/dynamics/gravity.hpp"
 #include "vaw/dynamics/hinge.hpp"
 #include "vaw/dynamics/slide.hpp"
+#include "vaw/units.hpp"
 
 using namespace vaw::dyn;
 
 namespace {
-constexpr double kDeg = M_PI / 180.0;
+using vaw::kDeg;
 Eigen::Isometry3d tiltedAboutY(double angle) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix();

@@ -5,13 +5,14 @@
 
 #include "vaw/dynamics/gravity.hpp"
 #include "vaw/dynamics/slide.hpp"
+#include "vaw/units.hpp"
 
 using namespace vaw::dyn;
 
 namespace {
 
-constexpr double g0 = 9.80665;
-constexpr double deg = M_PI / 180.0;
+using vaw::kStandardGravity;
+using vaw::kDeg;
 
 // An axis tilted `tilt` below the horizontal, pointing downhill.
 AxisSlideInput tiltedAxis(double tilt) {
@@ -34,9 +35,9 @@ PlaneSlideInput slope(double tilt) {
 }  // namespace
 
 TEST(Slide, FromRestMatchesClosedFormOver2s) {
-  const double tilt = 30 * deg;
+  const double tilt = 30 * kDeg;
   const Friction f{0.3, 0.2};
-  const double a = g0 * (std::sin(tilt) - f.fd * std::cos(tilt));
+  const double a = kStandardGravity * (std::sin(tilt) - f.fd * std::cos(tilt));
   AxisSlideState s;
   const double h = 1.0 / 90.0;
   const auto in = tiltedAxis(tilt);
@@ -50,9 +51,9 @@ TEST(Slide, FromRestMatchesClosedFormOver2s) {
 }
 
 TEST(Slide, WithInitialVelocityMatchesClosedForm) {
-  const double tilt = 25 * deg;
+  const double tilt = 25 * kDeg;
   const Friction f{0.3, 0.2};
-  const double a = g0 * (std::sin(tilt) - f.fd * std::cos(tilt));
+  const double a = kStandardGravity * (std::sin(tilt) - f.fd * std::cos(tilt));
   AxisSlideState s{0.0, 0.8, true};
   const double h = 1.0 / 60.0;
   for (int i = 1; i <= 120; ++i) {
@@ -66,7 +67,7 @@ TEST(Slide, StopsAtTheExactTimeInsideTheStep) {
   // Horizontal axis, v0 = 1 m/s: stops at t* = v0 / (fd g), s* = v0^2 / (2 fd g).
   const Friction f{0.3, 0.2};
   AxisSlideState s{0.0, 1.0, true};
-  const double tStar = 1.0 / (f.fd * g0), sStar = 1.0 / (2.0 * f.fd * g0);
+  const double tStar = 1.0 / (f.fd * kStandardGravity), sStar = 1.0 / (2.0 * f.fd * kStandardGravity);
   const double h = 1.0 / 90.0;
   double t = 0.0, stopTime = -1.0;
   for (int i = 0; i < 90; ++i) {
@@ -81,10 +82,10 @@ TEST(Slide, StopsAtTheExactTimeInsideTheStep) {
 }
 
 TEST(Slide, ThrownUphillStopsThenSlidesBack) {
-  const double tilt = 30 * deg;  // steeper than the static angle of fs = 0.3 (16.7 deg)
+  const double tilt = 30 * kDeg;  // steeper than the static angle of fs = 0.3 (16.7 deg)
   const Friction f{0.3, 0.2};
   AxisSlideState s{0.0, -1.0, true};  // uphill
-  const double up = g0 * (std::sin(tilt) + f.fd * std::cos(tilt)), down = g0 * (std::sin(tilt) - f.fd * std::cos(tilt));
+  const double up = kStandardGravity * (std::sin(tilt) + f.fd * std::cos(tilt)), down = kStandardGravity * (std::sin(tilt) - f.fd * std::cos(tilt));
   const double tStop = 1.0 / up, sTop = -0.5 / up;
   const double h = 1.0 / 30.0;
   for (int i = 0; i < 30; ++i) stepAxisSlide(s, tiltedAxis(tilt), f, h, Method::Exact);
@@ -96,7 +97,7 @@ TEST(Slide, ThrownUphillStopsThenSlidesBack) {
 
 TEST(Slide, BelowTheStaticAngleNeverMovesNotByARoundOff) {
   const Friction f{0.3, 0.2};
-  const double tilt = std::atan(f.fs) - 0.1 * deg;
+  const double tilt = std::atan(f.fs) - 0.1 * kDeg;
   AxisSlideState s;
   for (int i = 0; i < 900; ++i) {  // 10 s at 90 Hz
     const auto r = stepAxisSlide(s, tiltedAxis(tilt), f, 1.0 / 90.0, Method::Exact);
@@ -110,17 +111,17 @@ TEST(Slide, BelowTheStaticAngleNeverMovesNotByARoundOff) {
 TEST(Slide, JustAboveTheStaticAngleSlides) {
   const Friction f{0.3, 0.2};
   // The paper's condition: beta < 90 deg - atan(fs), beta between G and the axis; 16.70 deg of tilt for fs = 0.3.
-  EXPECT_NEAR(90.0 - staticFrictionAngle(f.fs) / deg, 16.6992, 1e-4);
+  EXPECT_NEAR(90.0 - staticFrictionAngle(f.fs) / kDeg, 16.6992, 1e-4);
   AxisSlideState s;
-  const auto r = stepAxisSlide(s, tiltedAxis(std::atan(f.fs) + 0.1 * deg), f, 1.0 / 90.0, Method::Exact);
+  const auto r = stepAxisSlide(s, tiltedAxis(std::atan(f.fs) + 0.1 * kDeg), f, 1.0 / 90.0, Method::Exact);
   EXPECT_EQ(r.event, SlideEvent::Started);
   EXPECT_GT(s.s, 0.0);
 }
 
 TEST(Slide, BoundIsLocatedInsideTheStep) {
-  const double tilt = 40 * deg;
+  const double tilt = 40 * kDeg;
   const Friction f{0.3, 0.2};
-  const double a = g0 * (std::sin(tilt) - f.fd * std::cos(tilt));
+  const double a = kStandardGravity * (std::sin(tilt) - f.fd * std::cos(tilt));
   auto in = tiltedAxis(tilt);
   in.upper = 0.05;  // the shoulder 50 mm down the shaft
   AxisSlideState s;
@@ -145,7 +146,7 @@ TEST(Slide, EveryMethodLocatesTheSameStop) {
       if (r.event == SlideEvent::Stopped) stopTime = t + r.eventTime;
       t += 1.0 / 60.0;
     }
-    EXPECT_NEAR(stopTime, 1.0 / (0.2 * g0), 1e-12) << name(m);
+    EXPECT_NEAR(stopTime, 1.0 / (0.2 * kStandardGravity), 1e-12) << name(m);
   }
 }
 
@@ -162,7 +163,7 @@ TEST(Slide, DegenerateGeometryIsDefined) {
   vertical.g = g;
   AxisSlideState s;
   stepAxisSlide(s, vertical, {0.3, 0.2}, 0.1, Method::Exact);
-  EXPECT_NEAR(s.s, 0.5 * g0 * 0.01, 1e-15);
+  EXPECT_NEAR(s.s, 0.5 * kStandardGravity * 0.01, 1e-15);
   // Gravity normal to the axis: never starts.
   AxisSlideState h0;
   stepAxisSlide(h0, tiltedAxis(0.0), {0.0, 0.0}, 1.0, Method::Exact);
@@ -183,12 +184,12 @@ TEST(Slide, DegenerateGeometryIsDefined) {
 }
 
 TEST(PlaneSlide, FromRestIsTheOneDimensionalSlide) {
-  const double tilt = 30 * deg;
+  const double tilt = 30 * kDeg;
   const PlaneSlideInput in = slope(tilt);
   const Friction f{0.3, 0.2};
   PlaneSlideState s;
   for (int i = 0; i < 90; ++i) stepPlaneSlide(s, in, f, 1.0 / 90.0, Method::Exact);
-  const double a = g0 * (std::sin(tilt) - f.fd * std::cos(tilt));
+  const double a = kStandardGravity * (std::sin(tilt) - f.fd * std::cos(tilt));
   EXPECT_NEAR(s.p.x(), 0.5 * a, 1e-12);
   EXPECT_NEAR(s.p.y(), 0.0, 1e-15);
 }
@@ -196,7 +197,7 @@ TEST(PlaneSlide, FromRestIsTheOneDimensionalSlide) {
 TEST(PlaneSlide, FrictionOpposesTheVelocityNotTheSlope) {
   // Released with a sideways velocity on a slope: the path curves downhill. The paper's form
   // (friction along the slope) would keep the sideways speed forever.
-  const double tilt = 30 * deg;
+  const double tilt = 30 * kDeg;
   const PlaneSlideInput in = slope(tilt);
   const Friction f{0.6, 0.5};
   PlaneSlideState fine{Eigen::Vector2d::Zero(), Eigen::Vector2d(0.0, 1.0), true};

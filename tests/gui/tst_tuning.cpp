@@ -65,7 +65,7 @@ namespace {
 // tests wait for the condition, so a generous cap costs nothing when it comes at once.
 constexpr int kSettle = 30000;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 QString stateOf(const vaw::sim::World& w, PartId p) { return QString::fromStdString(std::string(vaw::interact::name(w.part(p).state))); }
 

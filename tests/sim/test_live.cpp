@@ -22,7 +22,7 @@ using simtest::at;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 std::shared_ptr<const Scene> bundled(const std::string& name) { return Scene::build(simtest::loadBundled(name)); }
 

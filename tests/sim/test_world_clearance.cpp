@@ -22,7 +22,7 @@ using simtest::at;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 constexpr double kShaft = 0.015;  // m, the bundled shaft's radius
 
 // The bundled scene with the sleeve's bore widened by `clearance` (a 64-segment tube in the sleeve's frame:

@@ -18,7 +18,7 @@ using simtest::at;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 // Grabs `part` where it is, carries it to `target` in one step and lets go.
 void placeByHand(World& w, PartId part, const Eigen::Isometry3d& target) {

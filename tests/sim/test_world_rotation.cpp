@@ -16,7 +16,7 @@ using interact::PartState;
 using simtest::at;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 }
 
 TEST(WorldRotation, GearOnTheHorizontalShaftSwingsWithThePendulumPeriodAndDecays) {

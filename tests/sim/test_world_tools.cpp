@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "sim_test_support.hpp"
+#include "vaw/units.hpp"
 
 using namespace vaw;
 using namespace vaw::sim;
@@ -13,7 +14,7 @@ using interact::PartState;
 using simtest::at;
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 }  // namespace
 

@@ -25,7 +25,7 @@ using trials::Stage;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 struct Played {
   std::vector<double> t, z, y, angle, planeSpeed;

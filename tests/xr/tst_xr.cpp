@@ -620,7 +620,7 @@ void TestXr::sweptVolumeShowsInTheHeadsetToo() {
   QVERIFY2(differingFraction(with, without) > 0.02, qPrintable(QString::number(differingFraction(with, without))));
   double blueWith = 0.0, blueWithout = 0.0;
   qsizetype n = 0, opaque = 0;
-  const QColor own = QColor::fromRgbF(vaw::ui::Viewport::kSweptColor.r, vaw::ui::Viewport::kSweptColor.g, vaw::ui::Viewport::kSweptColor.b);
+  const QColor own = QColor::fromRgbF(vaw::view::kSweptColor.r, vaw::view::kSweptColor.g, vaw::view::kSweptColor.b);
   for (int y = 0; y < with.height(); ++y)
     for (int x = 0; x < with.width(); ++x) {
       const QRgb a = with.pixel(x, y), b = without.pixel(x, y);

@@ -1,4 +1,5 @@
 #include "vaw/ui/constraints_dock.hpp"
+#include "format.hpp"
 
 #include <QActionGroup>
 #include <QFont>
@@ -33,8 +34,7 @@ namespace vaw::ui {
 
 namespace {
 
-QString str(const std::string& s) { return QString::fromStdString(s); }
-QString str(std::string_view s) { return QString::fromUtf8(s.data(), static_cast<qsizetype>(s.size())); }
+using format::str;
 
 // Where a constraint's partner stands when the assembly is assembled: its final pose, or the base's pose.
 Eigen::Isometry3d assembledPose(const vaw::Assembly& a, vaw::PartId id) {

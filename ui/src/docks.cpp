@@ -23,6 +23,7 @@
 #include "vaw/ui/part_properties_model.hpp"
 #include "vaw/ui/scene_tree_model.hpp"
 #include "vaw/ui/timeline.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::ui {
 
@@ -132,7 +133,7 @@ MessagesDock::MessagesDock(QWidget* parent) : QDockWidget(tr("Messages"), parent
 }
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 QDoubleSpinBox* angleBox(const QString& name, QWidget* parent) {
   auto* box = new QDoubleSpinBox(parent);

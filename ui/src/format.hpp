@@ -3,12 +3,13 @@
 #include <Eigen/Core>
 #include <QString>
 #include <string>
+#include <string_view>
 
 #include "vaw/collision/collision_world.hpp"
 
 namespace vaw::ui::format {
 
-inline QString str(const std::string& s) { return QString::fromStdString(s); }
+inline QString str(std::string_view s) { return QString::fromUtf8(s.data(), static_cast<qsizetype>(s.size())); }
 // A number with `digits` significant digits, no exponent for everyday magnitudes.
 QString number(double value, int digits = 4);
 QString mass(double kg);             // "1.234 kg" / "12.3 g"

@@ -11,6 +11,7 @@
 #include "format.hpp"
 #include "vaw/ui/simulation_controller.hpp"
 #include "vaw/ui/viewport.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::ui {
 
@@ -69,7 +70,6 @@ void MainWindow::updateCapture() {
   const auto held = w.held(1);
   const auto hint = held ? w.captureHint(*held) : std::nullopt;
   const vaw::sim::Settings& st = w.settings();
-  const double kDeg = std::numbers::pi / 180.0;
   // Near: within five times the capture distance and three times its angle.
   if (hint && hint->distance <= 5.0 * st.recognizeDistance && hint->angle <= 3.0 * st.recognizeAngle * kDeg) {
     const vaw::Assembly& a = w.assembly();

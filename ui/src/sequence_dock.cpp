@@ -1,4 +1,5 @@
 #include "vaw/ui/sequence_dock.hpp"
+#include "format.hpp"
 
 #include <QBrush>
 #include <QColor>
@@ -25,7 +26,7 @@ namespace vaw::ui {
 
 namespace {
 
-QString str(const std::string& s) { return QString::fromStdString(s); }
+using format::str;
 
 QString names(const vaw::Assembly& a, const std::vector<vaw::PartId>& parts) {
   QStringList out;

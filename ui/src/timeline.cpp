@@ -1,4 +1,5 @@
 #include "vaw/ui/timeline.hpp"
+#include "qt_convert.hpp"
 
 #include <QFile>
 #include <QHelpEvent>
@@ -20,7 +21,6 @@ namespace vaw::ui {
 
 namespace {
 
-QColor toQColor(const vaw::view::Rgb& c) { return QColor::fromRgbF(c.r, c.g, c.b); }
 
 QString stateName(interact::PartState s) { return QString::fromStdString(std::string(interact::name(s))); }
 

@@ -5,12 +5,14 @@
 #include <filesystem>
 #include <string_view>
 
+#include "format.hpp"
+
 namespace vaw::ui::detail {
 
 // Wide enough for the analysis table and a readable chart; during a session the 3D view needs the room.
 inline constexpr int kAnalysisWidth = 720, kSessionWidth = 420;
 
-inline QString str(std::string_view s) { return QString::fromUtf8(s.data(), static_cast<qsizetype>(s.size())); }
+using format::str;
 inline std::filesystem::path fsPath(const QString& p) { return std::filesystem::path(QFile::encodeName(p).toStdString()); }
 inline QString qPath(const std::filesystem::path& p) { return QFile::decodeName(p.string().c_str()); }
 

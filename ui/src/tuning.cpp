@@ -28,7 +28,7 @@
 namespace vaw::ui {
 
 namespace {
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 constexpr int kSliderSteps = 200;       // the slider covers scales 0 to 2 in steps of 0.01
 constexpr double kSliderMax = 2.0;
 const QColor kProblemColour(255, 205, 200);

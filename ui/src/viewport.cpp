@@ -1,4 +1,5 @@
 #include "vaw/ui/viewport.hpp"
+#include "qt_convert.hpp"
 
 #include <Qt3DCore/QEntity>
 #include <Qt3DCore/QTransform>
@@ -31,6 +32,7 @@
 
 #include "mesh_geometry.hpp"
 #include "orbit_controller.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::ui {
 
@@ -39,22 +41,13 @@ namespace {
 const QColor kClearColor(52, 58, 68);
 // Default view direction (from the target towards the eye): front (-y), right (+x), above (+z).
 const Eigen::Vector3d kDefaultViewDirection = Eigen::Vector3d(0.75, -1.5, 0.95).normalized();
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 constexpr double kHandTurnRate = 90.0 * kDeg;  // rad/s while Q/E, Z/X or C/V is held
 constexpr double kBaseKeyRate = 10.0 * kDeg;   // rad/s while I/K, J/L or U/O is held
 constexpr double kHoistRate = 0.15;            // m/s while Shift+Up/Down is held
 constexpr double kHoistYawRate = 30.0 * kDeg;  // rad/s while Shift+Left/Right is held
 constexpr std::size_t kMaxDropLines = 16;      // lifted parts drawn with a drop line at once
 
-QColor toQColor(const vaw::view::Rgb& c) {
-  return QColor::fromRgbF(std::clamp(c.r, 0.0f, 1.0f), std::clamp(c.g, 0.0f, 1.0f), std::clamp(c.b, 0.0f, 1.0f));
-}
-
-QVector3D toQ(const Eigen::Vector3d& v) {
-  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
-}
-
-Eigen::Vector3d toEigen(const QVector3D& v) { return {v.x(), v.y(), v.z()}; }
 
 QMatrix4x4 toQ(const Eigen::Isometry3d& pose) {
   QMatrix4x4 m;
@@ -424,10 +417,10 @@ void Viewport::showSweptVolume(std::shared_ptr<const vaw::view::MeshBuffer> mesh
     swept_->setObjectName(QStringLiteral("sweptVolume"));
     swept_->addComponent(makeRenderer(*sweptMesh_, swept_));
     auto* material = new Qt3DExtras::QPhongAlphaMaterial(swept_);
-    material->setDiffuse(QColor::fromRgbF(kSweptColor.r, kSweptColor.g, kSweptColor.b));
+    material->setDiffuse(QColor::fromRgbF(vaw::view::kSweptColor.r, vaw::view::kSweptColor.g, vaw::view::kSweptColor.b));
     material->setAmbient(QColor(40, 80, 140));
     material->setSpecular(QColor(20, 20, 20));
-    material->setAlpha(kSweptAlpha);
+    material->setAlpha(vaw::view::kSweptAlpha);
     swept_->addComponent(material);
   }
   emit sweptVolumeChanged();

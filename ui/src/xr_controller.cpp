@@ -1,4 +1,5 @@
 #include "vaw/ui/xr_controller.hpp"
+#include "qt_convert.hpp"
 
 #include <Qt3DRender/QCamera>
 #include <dlfcn.h>
@@ -28,9 +29,6 @@ namespace {
 
 constexpr int kIdlePollMs = 10;  // while the session waits for the runtime (not running yet)
 
-QVector3D toQ(const Eigen::Vector3d& v) {
-  return {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
-}
 
 }  // namespace
 
@@ -225,7 +223,7 @@ void XrController::overlayChanged() {
   if (!backend_ || !mirror_) return;
   QString why;
   if (!makeCurrent(why)) return;
-  backend_->setOverlay(mirror_->sweptVolume(), Viewport::kSweptColor, Viewport::kSweptAlpha);
+  backend_->setOverlay(mirror_->sweptVolume(), vaw::view::kSweptColor, vaw::view::kSweptAlpha);
 }
 
 void XrController::loop() {

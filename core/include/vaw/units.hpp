@@ -1,5 +1,6 @@
 #pragma once
 // Everything inside vaw is SI (m, kg, s, rad). Files may declare other units; these convert on load.
+#include <numbers>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -21,5 +22,6 @@ std::string_view name(MassUnit u);
 std::optional<double> parseDensity(std::string_view text);
 
 inline constexpr double kStandardGravity = 9.80665;  // m/s^2
+inline constexpr double kDeg = std::numbers::pi / 180.0;  // rad in a degree, for angles that files and people give in degrees
 
 }  // namespace vaw

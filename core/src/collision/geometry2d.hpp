@@ -1,6 +1,7 @@
 #pragma once
 // Small 2-D helpers for outlines and support polygons (private to the collision sources).
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -9,6 +10,13 @@
 namespace vaw::collision::geom2 {
 
 using P = Eigen::Vector2d;
+
+// A unit vector perpendicular to n, always the same one for the same n: the first axis of the 2-D frame
+// in which a plane's outline is drawn.
+inline Eigen::Vector3d perpendicular(const Eigen::Vector3d& n) {
+  const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  return n.cross(helper).normalized();
+}
 
 inline double cross(const P& a, const P& b) { return a.x() * b.y() - a.y() * b.x(); }
 

@@ -28,10 +28,7 @@ std::vector<int> detail::cylindersOnAxis(const SurfacePatches& sp, const Axis& a
 
 namespace {
 
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& n) {
-  const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  return n.cross(helper).normalized();
-}
+using geom2::perpendicular;
 
 double lineDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& linePoint, const Eigen::Vector3d& u) {
   Eigen::Vector3d d = p - linePoint;

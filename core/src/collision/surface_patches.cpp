@@ -16,11 +16,7 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-// Any unit vector perpendicular to n, chosen deterministically.
-Eigen::Vector3d perpendicular(const Eigen::Vector3d& n) {
-  const Eigen::Vector3d helper = std::abs(n.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
-  return n.cross(helper).normalized();
-}
+using geom2::perpendicular;
 
 struct Topology {
   TriMesh welded;                        // same triangle order, merged vertex ids

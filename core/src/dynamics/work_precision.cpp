@@ -15,12 +15,13 @@
 #include "vaw/dynamics/reference.hpp"
 #include "vaw/dynamics/slide.hpp"
 #include "vaw/dynamics/stability.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::dyn {
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using vaw::kDeg;
 // Keeps the per-frame closed-form evaluations of the timed loop from being optimized away.
 volatile double gSink = 0.0;
 

@@ -11,15 +11,14 @@
 #include "vaw/atomic_file.hpp"
 #include "vaw/dynamics/hinge.hpp"
 #include "vaw/limits.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::sim {
 
-using detail::Json;
-using detail::Node;
+using ::vaw::detail::Json;
+using ::vaw::detail::Node;
 
 namespace {
-
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // ---- input script ----
 
@@ -314,7 +313,7 @@ std::string csvEscape(const std::string& s) {
 }  // namespace
 
 std::vector<Input> loadInputScript(const std::filesystem::path& file, Settings& settings) {
-  const Json json = detail::readJsonFile(file);
+  const Json json = ::vaw::detail::readJsonFile(file);
   const std::string fileName = file.string();
   const Node root(json, "", fileName);
   root.requireFormat("vaw-inputs");
@@ -447,7 +446,7 @@ void saveSession(const Session& s, AtomicFile& out) {
 }
 
 Session loadSession(const std::filesystem::path& file) {
-  const Json json = detail::readJsonFile(file);
+  const Json json = ::vaw::detail::readJsonFile(file);
   const std::string fileName = file.string();
   const Node root(json, "", fileName);
   root.requireFormat("vaw-session");

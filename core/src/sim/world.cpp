@@ -4,12 +4,13 @@
 #include <stdexcept>
 
 #include "world_impl.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::sim {
 
 using detail::angleOf;
 using detail::fmt;
-using detail::kDeg;
+using vaw::kDeg;
 using interact::Event;
 using interact::PartState;
 

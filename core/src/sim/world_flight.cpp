@@ -5,11 +5,12 @@
 
 #include "vaw/collision/time_of_impact.hpp"
 #include "world_impl.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::sim {
 
 using detail::fmt;
-using detail::kDeg;
+using vaw::kDeg;
 using interact::Event;
 
 void World::Impl::enterFlight(PartId id, const Eigen::Vector3d& v, const Eigen::Vector3d& w, double t0) {

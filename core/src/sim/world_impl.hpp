@@ -24,12 +24,12 @@
 #include "vaw/dynamics/free_flight.hpp"
 #include "vaw/dynamics/hinge.hpp"
 #include "vaw/sim/world.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::sim {
 
 namespace detail {
 
-inline constexpr double kDeg = std::numbers::pi / 180.0;
 inline constexpr std::size_t kMaxHistory = 64;  // hand pose samples kept for the release estimate
 
 inline std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0) {

@@ -8,12 +8,13 @@
 
 #include "vaw/collision/time_of_impact.hpp"
 #include "world_impl.hpp"
+#include "vaw/units.hpp"
 
 namespace vaw::sim {
 
 using detail::angleOf;
 using detail::fmt;
-using detail::kDeg;
+using vaw::kDeg;
 using interact::Event;
 using interact::PartState;
 

@@ -62,6 +62,9 @@ SceneDescription describe(const Assembly& assembly);
 Rgb stateColor(interact::PartState s);
 // The selection highlight.
 inline constexpr Rgb kHighlight{1.0f, 0.549f, 0.102f};
+// How a swept volume looks wherever it is drawn (the viewport, the headset, a video): translucent blue.
+inline constexpr Rgb kSweptColor{70.0f / 255.0f, 140.0f / 255.0f, 230.0f / 255.0f};
+inline constexpr float kSweptAlpha = 0.3f;
 
 // A part's colour on screen: its own, tinted by its state while it moves (held, on a tool, sliding or
 // turning, flying), and highlighted when selected.

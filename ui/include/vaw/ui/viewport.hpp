@@ -123,9 +123,6 @@ class Viewport : public QWidget {
   void showSweptVolume(std::shared_ptr<const vaw::view::MeshBuffer> mesh);
   [[nodiscard]] bool sweptVolumeShown() const { return sweptMesh_ != nullptr; }
   [[nodiscard]] const std::shared_ptr<const vaw::view::MeshBuffer>& sweptVolume() const { return sweptMesh_; }
-  // How the swept volume looks, here and in the headset.
-  static constexpr vaw::view::Rgb kSweptColor{70.0f / 255.0f, 140.0f / 255.0f, 230.0f / 255.0f};
-  static constexpr float kSweptAlpha = 0.3f;
   [[nodiscard]] const std::optional<CaptureZone>& captureZone() const { return captureShown_; }
 
   void showConstraintGeometry(const ConstraintGeometry& geometry);
