@@ -447,6 +447,9 @@ int dispatch(int argc, char** argv) {
   viCmd->add_option("--camera", vi.camera, "auto (default), follow PART, or iso, front, back, left, right, top")->expected(1, 2);
   viCmd->add_flag("--order", vi.order, "Play the planned order of a scene, STEP or mesh file");
   viCmd->add_option("--step-seconds", vi.stepSeconds, "Seconds each step of the order takes (default 2)")->check(CLI::Range(0.05, 600.0));
+  CLI::Option* viSweeps = viCmd->add_flag("--sweeps", vi.sweeps, "With --order: each way's swept volume drawn while its part comes home, and its nearest pass "
+                                                                  "(a line between the nearest points, the part and distance in the caption)");
+  viCmd->add_option("--voxel", vi.voxelMm, "With --sweeps: the swept volumes' voxel edge (mm, default 2)")->type_name("MM")->check(CLI::Range(0.1, 1e4))->needs(viSweeps);
   viCmd->callback([&] { command = [&] { return vaw::app::video(vi); }; });
 #endif
 

@@ -33,6 +33,10 @@ int video(const VideoArgs& args) {
   options.to = args.to;
   options.speed = args.speed;
   options.stepSeconds = args.stepSeconds;
+  if (args.sweeps) {
+    if (!args.order) fail(args.out, "--sweeps", "--order as well (a session's video shows what was recorded)", "--sweeps alone");
+    options.sweepVoxel = args.voxelMm * 1e-3;
+  }
   std::string cameraText;
   for (const std::string& word : args.camera) cameraText += (cameraText.empty() ? "" : " ") + word;
   const auto camera = video::parseCamera(cameraText);
@@ -65,6 +69,7 @@ int video(const VideoArgs& args) {
     const eval::SequencePlan plan = eval::planSequence(scene->assembly());
     result = video::writeOrderVideo(scene, plan, args.out, options, progress);
     what = "the order of " + std::to_string(plan.order.size()) + " parts";
+    if (args.sweeps) what += ", the swept volume and nearest pass of " + std::to_string(result.sweeps) + (result.sweeps == 1 ? " way" : " ways");
   }
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(args.out, ec);

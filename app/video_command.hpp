@@ -15,6 +15,8 @@ struct VideoArgs {
   std::vector<std::string> camera = {"auto"};  // "follow PART" may come as two words
   bool order = false;
   double stepSeconds = 2.0;
+  bool sweeps = false;   // with order: each way's swept volume and nearest pass shown
+  double voxelMm = 2.0;  // their voxel edge
 };
 int video(const VideoArgs& args);
 }  // namespace vaw::app

@@ -22,6 +22,7 @@
 #include <QTemporaryDir>
 #include <QWheelEvent>
 #include <QtTest>
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <numbers>
@@ -59,7 +60,7 @@ using vaw::ui::MainWindow;
 
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+using vaw::kDeg;
 
 QString stateOf(const vaw::sim::World& w, PartId p) { return QString::fromStdString(std::string(vaw::interact::name(w.part(p).state))); }
 
@@ -961,6 +962,40 @@ void TestSimulation::theRecordingExportsAsAVideo() {
                                           QStringLiteral("stream=codec_name,width,height,nb_read_frames"), QStringLiteral("-of"), QStringLiteral("csv=p=0"), small});
   QVERIFY(probe.waitForFinished(30000));
   QCOMPARE(QString::fromUtf8(probe.readAllStandardOutput()).trimmed(), QStringLiteral("h264,640,360,%1").arg(frames));
+
+  // The timeline zoomed in with the wheel about 1.5 s: "what the timeline shows" is offered and is what
+  // the video holds.
+  vaw::ui::TimelineView* timeline = window_->timelineDock()->view();
+  const QPointF at(timeline->xOf(1.5), timeline->height() / 2.0);
+  QWheelEvent wheel(at, timeline->mapToGlobal(at), QPoint(), QPoint(0, 4 * 120), Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+  QCoreApplication::sendEvent(timeline, &wheel);
+  const double end = static_cast<double>(sim().recorder().length()) * sim().recorder().session().settings.step();
+  const double from = std::clamp(timeline->visibleStart(), 0.0, end), to = std::clamp(timeline->visibleEnd(), 0.0, end);
+  QVERIFY2(from > 0.5 && to - from > 1.0, qPrintable(QStringLiteral("%1 to %2 s").arg(from).arg(to)));
+  const QString part = keep_.filePath(QStringLiteral("shown.mp4"));
+  vaw::guitest::whenModal([part](QWidget* dialog) {
+    auto* span = dialog->findChild<QComboBox*>(QStringLiteral("videoSpan"));
+    QCOMPARE(span->count(), 2);
+    span->setFocus();
+    QTest::keyClick(span, Qt::Key_End);
+    QVERIFY2(span->currentText().startsWith(QStringLiteral("What the timeline shows")), qPrintable(span->currentText()));
+    auto* size = dialog->findChild<QComboBox*>(QStringLiteral("videoSize"));
+    size->setFocus();
+    QTest::keyClick(size, Qt::Key_End);
+    vaw::guitest::typeInto(dialog->findChild<QSpinBox*>(QStringLiteral("videoFps")), QStringLiteral("10"));
+    vaw::guitest::whenModal([part](QWidget* w) { vaw::guitest::answerFileDialog(w, part); });
+    QTest::mouseClick(dialog->findChild<QDialogButtonBox*>()->button(QDialogButtonBox::Ok), Qt::LeftButton);
+  });
+  clickFileMenuItem(QStringLiteral("exportVideoAction"));
+  if (QTest::currentTestFailed()) return;
+  QTRY_VERIFY_WITH_TIMEOUT(window_->exportingVideo(), 10000);
+  QTRY_VERIFY_WITH_TIMEOUT(!window_->exportingVideo(), 60000);
+  const int spanFrames = static_cast<int>(std::floor((to - from) / 0.1 + 1e-9)) + 1;
+  QVERIFY2(window_->statusBar()->currentMessage().contains(QStringLiteral("(%1 frames").arg(spanFrames)), qPrintable(window_->statusBar()->currentMessage()));
+  probe.start(QStringLiteral("ffprobe"), {QStringLiteral("-v"), QStringLiteral("error"), QStringLiteral("-count_frames"), QStringLiteral("-show_entries"),
+                                          QStringLiteral("stream=nb_read_frames"), QStringLiteral("-of"), QStringLiteral("csv=p=0"), part});
+  QVERIFY(probe.waitForFinished(30000));
+  QCOMPARE(QString::fromUtf8(probe.readAllStandardOutput()).trimmed(), QString::number(spanFrames));
 }
 
 // File > Export glTF: the sleeve carried with the mouse, then the recording written as one glTF binary

@@ -10,6 +10,9 @@ extern "C" {
 #include <libswscale/swscale.h>
 }
 
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/gl.h>
+#include <GL/glext.h>
 #include <QtGui/QImage>
 
 #include <cmath>
@@ -22,6 +25,8 @@ extern "C" {
 #include "files.hpp"
 #include "vaw/error.hpp"
 #include "vaw/evaluation/sequence.hpp"
+#include "vaw/gl/gl_renderer.hpp"
+#include "vaw/gl/headless_gl.hpp"
 #include "vaw/scene_loader.hpp"
 #include "vaw/sim/scene.hpp"
 #include "vaw/sim/session.hpp"
@@ -177,6 +182,37 @@ TEST(Video, AnOrderPlaysEveryStepInItsTurn) {
     EXPECT_LT(psnr(d.frames[5 * i], d.frames[5 * i + 4]), 45.0) << "step " << i;
 }
 
+// With sweeps, each way's swept volume and nearest pass are drawn over its step: the gear's step looks
+// different from the same step without them; the base's step (it has no way) does not.
+TEST(Video, AnOrderWithSweepsShowsEachWaysVolumeInItsStep) {
+  const auto scene = vaw::sim::Scene::build(vaw::test::loadBundled("gear-on-shaft.vaw.json"));
+  const vaw::eval::SequencePlan plan = vaw::eval::planSequence(scene->assembly());
+  ASSERT_EQ(plan.order.size(), 2U);
+  vaw::video::VideoOptions o;
+  o.width = 320;
+  o.height = 180;
+  o.fps = 5;
+  o.stepSeconds = 1.0;
+  const fs::path plainFile = vaw::test::tempDir() / "plain.mp4", sweptFile = vaw::test::tempDir() / "swept.mp4";
+  (void)vaw::video::writeOrderVideo(scene, plan, plainFile, o);
+  o.sweepVoxel = 0.003;
+  std::vector<std::string> heard;
+  const vaw::video::VideoResult r = vaw::video::writeOrderVideo(scene, plan, sweptFile, o, [&](double, const std::string& what) {
+    heard.push_back(what);
+    return true;
+  });
+  EXPECT_EQ(r.sweeps, 1);
+  ASSERT_FALSE(heard.empty());
+  EXPECT_EQ(heard.front().rfind("swept volumes: ", 0), 0U) << heard.front();
+  const Decoded plain = decode(plainFile), swept = decode(sweptFile);
+  ASSERT_EQ(plain.frames.size(), 11U);
+  ASSERT_EQ(swept.frames.size(), 11U);
+  EXPECT_GT(psnr(plain.frames[2], swept.frames[2]), 45.0) << "the base's step has no way";
+  EXPECT_LT(psnr(plain.frames[7], swept.frames[7]), 40.0) << "the gear's way drawn over its step";
+  o.sweepVoxel = -1.0;
+  EXPECT_THROW((void)vaw::video::writeOrderVideo(scene, plan, sweptFile, o), vaw::InputError);
+}
+
 TEST(Video, WhatCannotBeWrittenIsANamedErrorAndLeavesNoFile) {
   const vaw::sim::Session session = vaw::sim::loadSession(fs::path(VAW_SOURCE_DIR) / "tests/sim/data/sleeve-turnover-v1.vaw-session.json");
   const auto scene = sceneOf(session);
@@ -221,4 +257,85 @@ TEST(Video, WhatCannotBeWrittenIsANamedErrorAndLeavesNoFile) {
   EXPECT_EQ(frames, 3);
   EXPECT_FALSE(fs::exists(file));
   EXPECT_FALSE(leftovers(file.parent_path()));
+}
+
+namespace {
+
+// `renderer`'s picture of `frame` from `eye`, read back (bottom row first, as OpenGL gives it).
+QImage drawn(vaw::xr::GlRenderer& renderer, const vaw::xr::EyeView& eye, const vaw::view::Frame& frame, int width, int height) {
+  GLuint texture = 0, fbo = 0;
+  glGenTextures(1, &texture);
+  glBindTexture(GL_TEXTURE_2D, texture);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
+  renderer.render(texture, width, height, eye, &frame, vaw::xr::HandsSample{});
+  glGenFramebuffers(1, &fbo);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+  QImage image(width, height, QImage::Format_RGBA8888);
+  glReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, image.bits());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  glDeleteFramebuffers(1, &fbo);
+  glDeleteTextures(1, &texture);
+  return image;
+}
+
+// Pixels whose colour differs by more than one level in a channel.
+int differing(const QImage& a, const QImage& b) {
+  int n = 0;
+  for (int y = 0; y < a.height(); ++y) {
+    const std::uint8_t* p = a.constScanLine(y);
+    const std::uint8_t* q = b.constScanLine(y);
+    for (int x = 0; x < a.width(); ++x) {
+      bool d = false;
+      for (int c = 0; c < 3; ++c) d = d || std::abs(static_cast<int>(p[4 * x + c]) - static_cast<int>(q[4 * x + c])) > 1;
+      n += d ? 1 : 0;
+    }
+  }
+  return n;
+}
+
+}  // namespace
+
+// A video's camera holds still, so what did not move is drawn once into a layer and copied under each
+// frame (GlRenderer's still layer). Drawn with and without the layer, a scene whose sleeve starts to move
+// and moves on gives the same pictures, and the layer is made only when a part in it moves.
+TEST(Video, TheStillLayerChangesNoPicture) {
+  const auto scene = vaw::sim::Scene::build(vaw::test::loadBundled("sleeve-on-shaft.vaw.json"));
+  const vaw::Assembly& a = scene->assembly();
+  const vaw::view::SceneDescription described = vaw::view::describe(a);
+  const vaw::PartId sleeve = *a.findPart("sleeve");
+  vaw::gl::HeadlessGl gl;
+  vaw::xr::GlRenderer layered, plain;
+  layered.setScene(described);
+  layered.keepStillLayer(true);
+  plain.setScene(described);
+
+  vaw::xr::EyeView eye;
+  const Eigen::Vector3d centre = described.partsBounds.center();
+  const Eigen::Vector3d back = Eigen::Vector3d(0.6, -0.9, 0.6).normalized(), right = Eigen::Vector3d::UnitZ().cross(back).normalized();
+  eye.pose.linear().col(0) = right;
+  eye.pose.linear().col(1) = back.cross(right);
+  eye.pose.linear().col(2) = back;
+  eye.pose.translation() = centre + 0.6 * back;
+  eye.angleLeft = eye.angleDown = -0.4;
+  eye.angleRight = eye.angleUp = 0.4;
+
+  vaw::view::Frame frame;
+  frame.parts.resize(a.parts.size());
+  for (vaw::PartId p = 0; p < a.parts.size(); ++p) {
+    frame.parts[p].pose = a.parts[p].pose;
+    if (described.partDrawable[p]) frame.parts[p].color = described.drawables[*described.partDrawable[p]].color;
+  }
+  constexpr int kW = 320, kH = 240;
+  // At rest twice (the layer made of everything), then the sleeve moved three times and held once.
+  for (const double dx : {0.0, 0.0, 0.03, 0.06, 0.06}) {
+    frame.parts[sleeve].pose.translation() = a.parts[sleeve].pose.translation() + Eigen::Vector3d(dx, 0.0, 0.0);
+    const QImage withLayer = drawn(layered, eye, frame, kW, kH), without = drawn(plain, eye, frame, kW, kH);
+    EXPECT_LE(differing(withLayer, without), kW * kH / 2000) << "sleeve moved " << dx << " m";
+  }
+  // Made for the scene at rest and again once the sleeve moved; every frame after the first over one.
+  EXPECT_EQ(layered.stillLayerUse().made, 2);
+  EXPECT_EQ(layered.stillLayerUse().drawnOver, 4);
+  EXPECT_EQ(plain.stillLayerUse().made, 0);
+  ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }

@@ -181,6 +181,11 @@ GlRenderer::~GlRenderer() {
   release(sphere_);
   release(cube_);
   if (depth_ != 0) glDeleteRenderbuffers(1, &depth_);
+  if (layer_.fbo != 0) {
+    glDeleteRenderbuffers(1, &layer_.color);
+    glDeleteRenderbuffers(1, &layer_.depth);
+    glDeleteFramebuffers(1, &layer_.fbo);
+  }
   glDeleteFramebuffers(1, &fbo_);
   glDeleteProgram(program_);
 }
@@ -204,6 +209,8 @@ GlRenderer::GpuMesh GlRenderer::upload(const std::vector<float>& vertices, std::
 
 void GlRenderer::setScene(const view::SceneDescription& scene) {
   items_.clear();
+  layer_.valid = false;
+  last_.clear();
   for (const auto& d : scene.drawables) {
     if (!d.mesh || d.mesh->vertexCount == 0) continue;
     auto it = meshes_.find(d.mesh.get());
@@ -245,33 +252,111 @@ void GlRenderer::drawSegment(const Eigen::Vector3d& from, const Eigen::Vector3d&
   draw(cube_, beam(from, to, width), color, false);
 }
 
-void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const EyeView& eye, const view::Frame* frame,
-                        const HandsSample& hands) {
-  ensureTargets(width, height);
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTexture, 0);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+void GlRenderer::keepStillLayer(bool on) {
+  layer_.on = on;
+  layer_.valid = false;
+}
+
+GlRenderer::Look GlRenderer::lookOf(const Item& item, const view::Frame& frame) const {
+  if (item.kind == view::DrawableKind::Environment || item.index >= frame.parts.size()) return {item.pose, item.color, true};
+  const view::PartFrame& p = frame.parts[item.index];
+  return {toMatrix(p.pose), p.color, p.shown};
+}
+
+namespace {
+
+bool sameEye(const EyeView& a, const EyeView& b) {
+  return a.pose.matrix() == b.pose.matrix() && a.angleLeft == b.angleLeft && a.angleRight == b.angleRight && a.angleUp == b.angleUp &&
+         a.angleDown == b.angleDown;
+}
+
+// The state every pass starts from: depth tested, both sides drawn, and (unless a layer is copied over it)
+// the picture cleared to the background.
+void beginPass(int width, int height, bool clear = true) {
   glViewport(0, 0, width, height);
   // The values written are already sRGB-encoded (as on the desktop): no conversion into an sRGB image.
   glDisable(GL_FRAMEBUFFER_SRGB);
   glEnable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
+  if (!clear) return;
   glClearColor(kClear[0], kClear[1], kClear[2], 1.0f);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+}
+
+}  // namespace
+
+bool GlRenderer::useStillLayer(const std::vector<Look>& looks, const EyeView& eye, int width, int height, const Eigen::Matrix4f& viewProj) {
+  StillLayer& l = layer_;
+  if (l.valid && l.width == width && l.height == height && sameEye(l.eye, eye) && l.in.size() == looks.size()) {
+    bool intact = true;
+    for (std::size_t i = 0; i < looks.size() && intact; ++i) intact = l.in[i] == 0 || looks[i] == l.drawn[i];
+    if (intact) {
+      ++use_.drawnOver;
+      return true;
+    }
+  }
+  l.valid = false;
+  // Made only once the eye has held still for a frame: an eye that moves would have it made every frame.
+  if (!lastEye_ || !sameEye(*lastEye_, eye) || last_.size() != looks.size()) return false;
+  if (l.fbo == 0) {
+    glGenFramebuffers(1, &l.fbo);
+    glGenRenderbuffers(1, &l.color);
+    glGenRenderbuffers(1, &l.depth);
+  }
+  if (l.width != width || l.height != height) {
+    glBindRenderbuffer(GL_RENDERBUFFER, l.color);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glBindRenderbuffer(GL_RENDERBUFFER, l.depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, width, height);
+    l.width = width;
+    l.height = height;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, l.fbo);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, l.color);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, l.depth);
+  beginPass(width, height);
   glUseProgram(program_);
+  glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, viewProj.data());
+  l.in.assign(looks.size(), 0);
+  l.drawn = looks;
+  for (std::size_t i = 0; i < looks.size(); ++i) {
+    if (!(looks[i] == last_[i])) continue;  // moving: drawn over the layer each frame
+    l.in[i] = 1;
+    if (looks[i].shown) draw(*items_[i].mesh, looks[i].pose, looks[i].color, true);
+  }
+  l.eye = eye;
+  l.valid = true;
+  ++use_.made;
+  ++use_.drawnOver;
+  return true;
+}
+
+void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const EyeView& eye, const view::Frame* frame,
+                        const HandsSample& hands) {
+  ensureTargets(width, height);
   const Eigen::Matrix4f viewProj = projection(eye, kNear, kFar) * eye.pose.inverse().matrix().cast<float>();
+  std::vector<Look> looks;
+  if (frame != nullptr) {
+    looks.reserve(items_.size());
+    for (const Item& item : items_) looks.push_back(lookOf(item, *frame));
+  }
+  const bool layered = layer_.on && frame != nullptr && useStillLayer(looks, eye, width, height, viewProj);
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTexture, 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth_);
+  beginPass(width, height, !layered);
+  if (layered) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, layer_.fbo);
+    glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_);
+  }
+  glUseProgram(program_);
   glUniformMatrix4fv(uViewProj_, 1, GL_FALSE, viewProj.data());
 
   if (frame != nullptr) {
-    for (const Item& item : items_) {
-      if (item.kind == view::DrawableKind::Environment || item.index >= frame->parts.size()) {
-        draw(*item.mesh, item.pose, item.color, true);
-      } else {
-        const view::PartFrame& p = frame->parts[item.index];
-        if (p.shown) draw(*item.mesh, toMatrix(p.pose), p.color, true);
-      }
-    }
+    for (std::size_t i = 0; i < items_.size(); ++i)
+      if ((!layered || layer_.in[i] == 0) && looks[i].shown) draw(*items_[i].mesh, looks[i].pose, looks[i].color, true);
     for (const view::DropLine& d : frame->drops) {
       drawSegment(d.from, d.to, 0.002, kLine);
       Eigen::Isometry3d mark = Eigen::Isometry3d::Identity();
@@ -283,7 +368,10 @@ void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const
       drawSegment(Eigen::Vector3d(hook.x(), hook.y(), h.top), hook, 0.004, kCable);
       draw(cube_, scaledAt(h.hook, Eigen::Vector3d::Constant(0.03)), h.engaged ? view::kHighlight : kCable, true);
     }
+    last_ = std::move(looks);
   }
+  for (const Line& l : lines_) drawSegment(l.from, l.to, l.width, l.color);
+  lastEye_ = eye;
   for (int k = 0; k < 2; ++k) {
     const HandSample& hand = hands.hands[static_cast<std::size_t>(k)];
     const bool closed = frame != nullptr && (frame->hands[static_cast<std::size_t>(k)].grab ||

@@ -38,6 +38,7 @@
 #include "vaw/ui/assembly_controller.hpp"
 #include "vaw/ui/background.hpp"
 #include "vaw/ui/docks.hpp"
+#include "vaw/ui/timeline.hpp"
 #include "vaw/ui/message_log_model.hpp"
 #include "vaw/ui/sequence_dock.hpp"
 #include "vaw/ui/simulation_controller.hpp"
@@ -485,6 +486,16 @@ void MainWindow::exportVideoDialog() {
                                     {tr("From above"), QStringLiteral("top")}})
     camera->addItem(label, view);
   form->addRow(tr("Camera"), camera);
+  // The whole recording, or the part of it the timeline shows when that is less (zoomed or panned).
+  auto* span = new QComboBox(&d);
+  span->setObjectName(QStringLiteral("videoSpan"));
+  const double end = static_cast<double>(simulation_->recorder().length()) * simulation_->recorder().session().settings.step();
+  span->addItem(tr("The whole recording (%1 s)").arg(format::number(end, 1)), QPointF(0.0, end));
+  const double shownFrom = std::clamp(timelineDock_->view()->visibleStart(), 0.0, end);
+  const double shownTo = std::clamp(timelineDock_->view()->visibleEnd(), 0.0, end);
+  if (shownTo - shownFrom > 0.05 && (shownFrom > 0.05 || shownTo < end - 0.05))
+    span->addItem(tr("What the timeline shows (%1 to %2 s)").arg(format::number(shownFrom, 1), format::number(shownTo, 1)), QPointF(shownFrom, shownTo));
+  form->addRow(tr("Span"), span);
   auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel, &d);
   connect(buttons, &QDialogButtonBox::accepted, &d, &QDialog::accept);
   connect(buttons, &QDialogButtonBox::rejected, &d, &QDialog::reject);
@@ -495,6 +506,10 @@ void MainWindow::exportVideoDialog() {
   options.height = size->currentData().toSize().height();
   options.fps = fps->value();
   options.camera = vaw::video::parseCamera(camera->currentData().toString().toStdString()).value_or(vaw::video::Camera{});
+  if (span->currentIndex() > 0) {
+    options.from = span->currentData().toPointF().x();
+    options.to = span->currentData().toPointF().y();
+  }
   const QString suggested = QFileInfo(controller_.currentPath()).absolutePath() + QLatin1Char('/') +
                             QFileInfo(controller_.currentPath()).completeBaseName() + QStringLiteral(".mp4");
   QString file = QFileDialog::getSaveFileName(this, tr("Export Video"), suggested, tr("MP4 video (*.mp4)"));

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "vaw/error.hpp"
+#include "vaw/evaluation/way_clearance.hpp"
 #include "vaw/gl/gl_renderer.hpp"
 #include "vaw/gl/headless_gl.hpp"
 #include "vaw/report/gltf.hpp"
@@ -118,24 +119,38 @@ class CameraMan {
   }
 
   // The eye for `frame`, `dt` seconds of recording after the last one (0: the first, no easing in). Auto
-  // and a view frame every part drawn where it is now, as the window's F does; Follow, its part.
+  // and a view frame every part drawn where it is now, as the window's F does, and hold still while that
+  // stays in the picture and fills most of it, as a camera operator would: a still picture is easier to
+  // watch and is drawn for the cost of what moves (GlRenderer's still layer). When the work leaves the
+  // picture or shrinks in it, the camera moves smoothly to frame it again with a tenth to spare. Follow
+  // keeps its part in the middle all the time.
   xr::EyeView aim(const view::Frame& frame, double dt) {
-    Eigen::Vector3d wanted = home_;
-    double distance = distance_;
     if (kind_ == Camera::Kind::Follow) {
-      wanted = frame.parts[*part_].pose * local_;
-    } else {
-      Eigen::AlignedBox3d box;
-      for (PartId p = 0; p < frame.parts.size() && p < scene_.partDrawable.size(); ++p)
-        if (frame.parts[p].shown && scene_.partDrawable[p]) box.extend(worldBox(scene_.drawables[*scene_.partDrawable[p]].mesh->bounds, frame.parts[p].pose));
-      if (!box.isEmpty()) {
-        wanted = box.center();
-        distance = framing(0.5 * box.diagonal().norm(), aspect_);
+      ease(frame.parts[*part_].pose * local_, distance_, dt);
+      return eyeAt(*centre_, direction_, distanceNow_, aspect_);
+    }
+    Eigen::AlignedBox3d box;
+    for (PartId p = 0; p < frame.parts.size() && p < scene_.partDrawable.size(); ++p)
+      if (frame.parts[p].shown && scene_.partDrawable[p]) box.extend(worldBox(scene_.drawables[*scene_.partDrawable[p]].mesh->bounds, frame.parts[p].pose));
+    const Eigen::Vector3d wanted = box.isEmpty() ? home_ : Eigen::Vector3d(box.center());
+    const double radius = box.isEmpty() ? radiusOf(distance_) : std::max(0.5 * box.diagonal().norm(), 1e-3);
+    if (!centre_) {
+      centre_ = wanted;
+      distanceNow_ = framing(kSpare * radius, aspect_);
+      return eyeAt(*centre_, direction_, distanceNow_, aspect_);
+    }
+    const double held = radiusOf(distanceNow_), reach = (wanted - *centre_).norm() + radius;
+    if (!moving_ && (reach > held || reach < kShrunk * held)) moving_ = true;
+    if (moving_) {
+      const double distance = framing(kSpare * radius, aspect_);
+      ease(wanted, distance, dt);
+      // Close enough that the rest would not show: there, and still.
+      if ((wanted - *centre_).norm() < 1e-4 * distanceNow_ && std::abs(distance - distanceNow_) < 1e-4 * distanceNow_) {
+        centre_ = wanted;
+        distanceNow_ = distance;
+        moving_ = false;
       }
     }
-    const double ease = dt > 0.0 && centre_ ? 1.0 - std::exp(-dt / kSettle) : 1.0;
-    centre_ = centre_ ? *centre_ + (wanted - *centre_) * ease : wanted;
-    distanceNow_ += (distance - distanceNow_) * ease;
     return eyeAt(*centre_, direction_, distanceNow_, aspect_);
   }
 
@@ -148,6 +163,17 @@ class CameraMan {
   std::optional<PartId> part_;
   std::optional<Eigen::Vector3d> centre_;
   double distanceNow_ = 0.0;
+  bool moving_ = false;
+  static constexpr double kSpare = 1.1;    // the work framed with a tenth of its size to spare
+  static constexpr double kShrunk = 0.6;   // held until the work fills less than this of the picture
+
+  // The ball a camera `distance` back holds (framing's inverse).
+  [[nodiscard]] double radiusOf(double distance) const { return distance / framing(1.0, aspect_); }
+  void ease(const Eigen::Vector3d& wanted, double distance, double dt) {
+    const double k = dt > 0.0 && centre_ ? 1.0 - std::exp(-dt / kSettle) : 1.0;
+    centre_ = centre_ ? *centre_ + (wanted - *centre_) * k : wanted;
+    distanceNow_ += (distance - distanceNow_) * k;
+  }
 };
 
 // Draws frames in a context of its own and reads them back as pictures, top row first.
@@ -156,6 +182,7 @@ class Shooter {
   Shooter(const view::SceneDescription& scene, int width, int height) : width_(width), height_(height) {
     renderer_ = std::make_unique<xr::GlRenderer>();
     renderer_->setScene(scene);
+    renderer_->keepStillLayer(true);
     glGenTextures(1, &texture_);
     glBindTexture(GL_TEXTURE_2D, texture_);
     glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA8, width, height, 0, GL_RGBA, GL_UNSIGNED_BYTE, nullptr);
@@ -184,6 +211,10 @@ class Shooter {
     return image.mirrored(false, true);  // OpenGL's rows run bottom up
   }
   [[nodiscard]] const std::string& name() const { return name_; }
+  void show(std::shared_ptr<const view::MeshBuffer> volume, std::vector<xr::GlRenderer::Line> lines) {
+    renderer_->setOverlay(std::move(volume), view::kSweptColor, view::kSweptAlpha);
+    renderer_->setLines(std::move(lines));
+  }
 
  private:
   gl::HeadlessGl gl_;  // first: the renderer needs the context current
@@ -357,8 +388,19 @@ VideoResult writeOrderVideo(const std::shared_ptr<const sim::Scene>& scene, cons
   checkSize(options, name);
   if (!(options.stepSeconds > 0.0) || !std::isfinite(options.stepSeconds) || options.stepSeconds > 600.0)
     fail(name, "step-seconds", "a positive time up to 600 s", fixed(options.stepSeconds, 3));
+  if (!(options.sweepVoxel >= 0.0) || !std::isfinite(options.sweepVoxel) || (options.sweepVoxel > 0.0 && options.sweepVoxel < 1e-4))
+    fail(name, "sweeps", "a voxel edge of 0.1 mm or more (or none)", fixed(options.sweepVoxel * 1e3, 3) + " mm");
   const Assembly& a = scene->assembly();
   const report::Motion motion = report::orderMotion(a, plan, options.stepSeconds, options.fps / options.speed);
+  // Each way's swept volume and nearest pass, by part, before the first frame.
+  std::vector<std::optional<eval::WayClearance>> ways(a.parts.size());
+  if (options.sweepVoxel > 0.0) {
+    eval::WayClearanceOptions wo;
+    wo.voxel = options.sweepVoxel;
+    const ProgressFn told = progress ? ProgressFn([&](double f, const std::string& what) { return progress(0.0, "swept volumes: " + what + " (" + fixed(100.0 * f, 0) + " %)"); })
+                                     : ProgressFn{};
+    for (eval::WayClearance& w : eval::wayClearances(a, plan, wo, told)) ways[w.part] = std::move(w);
+  }
   const auto [from, to] = span(options, motion.duration + 1e-9, name);
   const double dt = options.speed / options.fps;
   const view::SceneDescription described = view::describe(a);
@@ -374,6 +416,8 @@ VideoResult writeOrderVideo(const std::shared_ptr<const sim::Scene>& scene, cons
   const auto frames = static_cast<std::int64_t>(std::floor((to - from) / dt + 1e-9)) + 1;
   view::Frame frame;
   frame.parts.resize(a.parts.size());
+  std::optional<PartId> sweptShown;
+  std::int64_t sweeps = 0;
   for (std::int64_t k = 0; k < frames; ++k) {
     const double t = from + static_cast<double>(k) * dt;
     // The step at hand: the part in the order that came in last (none before the first).
@@ -399,6 +443,25 @@ VideoResult writeOrderVideo(const std::shared_ptr<const sim::Scene>& scene, cons
       const auto* way = plan.wayOf(current);
       left += "   step " + std::to_string(plan.step[at]) + " of " + std::to_string(plan.step.back()) + ": " + a.parts[current].name +
               (isBase ? std::string(" (the base)") : way ? ", " + eval::travelText(way->out) : std::string());
+      const std::optional<eval::WayClearance>& swept = ways[current];
+      if (swept && !isBase) {
+        if (const eval::WayObject* near = swept->nearest())
+          left += ", nearest " + a.parts[near->part].name + " " + fixed(near->least * 1e3, 1) + " mm";
+      }
+    }
+    // The step's way: its volume and its nearest pass, from the step's first frame to the next step's.
+    const std::optional<PartId> wanted = any && !isBase && ways[current] ? std::optional<PartId>(current) : std::nullopt;
+    if (wanted != sweptShown) {
+      std::shared_ptr<const view::MeshBuffer> volume;
+      std::vector<xr::GlRenderer::Line> lines;
+      if (wanted) {
+        const eval::WayClearance& w = *ways[*wanted];
+        if (w.swept) volume = view::flatShaded(w.swept->surface());
+        if (const eval::WayObject* near = w.nearest()) lines.push_back({near->onPart, near->onOther, 0.0015, view::kHighlight});
+        ++sweeps;
+      }
+      shooter.show(std::move(volume), std::move(lines));
+      sweptShown = wanted;
     }
     QImage picture = shooter.shoot(frame, camera.aim(frame, k == 0 ? 0.0 : dt));
     caption(picture, left, a.name, {});
@@ -407,7 +470,7 @@ VideoResult writeOrderVideo(const std::shared_ptr<const sim::Scene>& scene, cons
       throw LoadCancelled();
   }
   writer.finish();
-  return {writer.frames(), static_cast<double>(writer.frames()) / options.fps, writer.encoder(), shooter.name()};
+  return {writer.frames(), static_cast<double>(writer.frames()) / options.fps, writer.encoder(), shooter.name(), sweeps};
 }
 
 }  // namespace vaw::video

@@ -41,6 +41,23 @@ class GlRenderer {
   // A world mesh drawn translucent after everything else (its back faces culled: it is closed and
   // outward); null removes it.
   void setOverlay(std::shared_ptr<const view::MeshBuffer> mesh, const view::Rgb& color, float alpha);
+  // World segments drawn unlit with the parts, as beams `width` across (a video's nearest pass); empty: none.
+  struct Line {
+    Eigen::Vector3d from = Eigen::Vector3d::Zero(), to = Eigen::Vector3d::Zero();
+    double width = 0.001;  // m
+    view::Rgb color;
+  };
+  void setLines(std::vector<Line> lines) { lines_ = std::move(lines); }
+  // For a camera that holds still (a video's): what has not moved since the frame before is drawn once
+  // into a layer of its own, colour and depth, and copied under each frame, so that a frame costs only
+  // what moves. A layer is made when the eye is the last frame's and made again when a part in it moves
+  // or the eye moves. Off unless asked: a headset's eyes move every frame.
+  void keepStillLayer(bool on);
+  struct LayerUse {
+    std::int64_t made = 0;   // layers drawn
+    std::int64_t drawnOver = 0;  // frames drawn over a layer
+  };
+  [[nodiscard]] const LayerUse& stillLayerUse() const { return use_; }
   // Draws into `colorTexture` (a 2D texture, e.g. a swapchain image) of `width` x `height` pixels.
   void render(std::uint32_t colorTexture, int width, int height, const EyeView& eye, const view::Frame* frame,
               const HandsSample& hands);
@@ -57,7 +74,25 @@ class GlRenderer {
     Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();
     view::Rgb color;
   };
+  // What an item looks like in one frame: compared exactly to tell what moved.
+  struct Look {
+    Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();
+    view::Rgb color;
+    bool shown = true;
+    bool operator==(const Look& o) const { return pose == o.pose && color.r == o.color.r && color.g == o.color.g && color.b == o.color.b && shown == o.shown; }
+  };
+  struct StillLayer {
+    bool on = false, valid = false;
+    std::uint32_t fbo = 0, color = 0, depth = 0;
+    int width = 0, height = 0;
+    EyeView eye;                  // the eye it was drawn for
+    std::vector<char> in;         // per item: drawn in the layer
+    std::vector<Look> drawn;      // per item: as the layer has it
+  };
   GpuMesh upload(const std::vector<float>& vertices, std::size_t count);
+  [[nodiscard]] Look lookOf(const Item& item, const view::Frame& frame) const;
+  // True when `layer_` holds what `looks` and `eye` show (made again here when it can be).
+  bool useStillLayer(const std::vector<Look>& looks, const EyeView& eye, int width, int height, const Eigen::Matrix4f& viewProj);
   void draw(const GpuMesh& mesh, const Eigen::Matrix4f& model, const view::Rgb& color, bool lit, float alpha = 1.0f);
   void drawSegment(const Eigen::Vector3d& from, const Eigen::Vector3d& to, double width, const view::Rgb& color);
   void ensureTargets(int width, int height);
@@ -76,6 +111,11 @@ class GlRenderer {
     float alpha = 1.0f;
   };
   std::optional<Overlay> overlay_;
+  std::vector<Line> lines_;
+  StillLayer layer_;
+  LayerUse use_;
+  std::vector<Look> last_;  // the last frame's looks, per item
+  std::optional<EyeView> lastEye_;
 };
 
 }  // namespace vaw::xr

@@ -42,6 +42,10 @@ struct VideoOptions {
   double speed = 1.0;              // seconds of recording per second of video
   Camera camera;
   double stepSeconds = 2.0;        // an order's: the time each step takes
+  // An order's: each way's swept volume at this voxel edge (m), drawn translucent while its part comes
+  // home, and the nearest pass (a line between the two nearest points, the part and the distance in the
+  // caption); 0 shows neither.
+  double sweepVoxel = 0.0;
 };
 
 struct VideoResult {
@@ -49,6 +53,7 @@ struct VideoResult {
   double seconds = 0.0;  // of video
   std::string encoder;   // FFmpeg's name for it ("libx264")
   std::string gl;        // the OpenGL renderer and EGL's platform it drew with
+  std::int64_t sweeps = 0;  // an order's ways whose swept volume was shown
 };
 
 // `progress` is told the fraction done after each frame and stops the video by returning false (nothing
@@ -59,6 +64,7 @@ VideoResult writeSessionVideo(const std::shared_ptr<const sim::Scene>& scene, co
                               const VideoOptions& options, const ProgressFn& progress = {});
 // The planned order played (as the report's 3D view and `vaw-sim export --order` play it): the base in
 // place, then each part in its step's turn flying home along its way, lit, with the step's number and name.
+// With a sweepVoxel the ways' swept volumes and clearances are worked out first (progress says so).
 VideoResult writeOrderVideo(const std::shared_ptr<const sim::Scene>& scene, const eval::SequencePlan& plan, const std::filesystem::path& file,
                             const VideoOptions& options, const ProgressFn& progress = {});
 
