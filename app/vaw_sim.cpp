@@ -416,6 +416,9 @@ int dispatch(int argc, char** argv) {
   swCmd->add_option("--step-timeout", sw.step.timeoutSeconds, "Seconds the STEP writer may take (default 300)")->check(CLI::Range(0.01, 86400.0));
   swCmd->add_option("--step-memory", sw.step.memoryMB, "The STEP writer's memory limit in MB (default: half the machine's)")
       ->check(CLI::Range(64.0, 1e7));
+  swCmd->add_flag("--step-faceted", sw.step.faceted,
+                  "swept.step as a faceted B-rep (faces bounded by loops of points): about a third the size, though some CAD systems "
+                  "take it in as a faceted body");
   swCmd->callback([&] { command = [&] { return vaw::app::sweep(sw); }; });
 
   vaw::app::ExportArgs ex;

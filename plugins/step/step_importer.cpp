@@ -354,8 +354,9 @@ class StepExporter final : public vaw::SolidExporter {
     vaw::writeFileAtomically(stl, vaw::binaryStl(mesh, 1.0 / vaw::toMetres(unit), "vaw solid, " + std::string(vaw::name(unit))));
     const std::filesystem::path part = file.parent_path() / ("." + file.filename().string() + ".writing");
     const std::string memory = std::to_string(static_cast<long long>(memoryLimitMB(options.memoryMB)));
-    const std::vector<std::string> args = {writer.string(), stl.string(),  "--out",    part.string(), "--unit", std::string(vaw::name(unit)),
-                                           "--name",        solidName,     "--parent", std::to_string(getpid()), "--memory-limit-mb", memory};
+    std::vector<std::string> args = {writer.string(), stl.string(),  "--out",    part.string(), "--unit", std::string(vaw::name(unit)),
+                                     "--name",        solidName,     "--parent", std::to_string(getpid()), "--memory-limit-mb", memory};
+    if (options.faceted) args.emplace_back("--faceted");
     std::error_code ec;
     const auto notWritten = [&](const std::string& why) {
       std::filesystem::remove(part, ec);

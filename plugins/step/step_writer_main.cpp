@@ -1,9 +1,15 @@
 // vaw-step-write: writes a closed triangle mesh as one named STEP solid (AP214, a manifold solid B-rep of
-// plane faces), in which coplanar triangles are merged into polygons: a voxel surface becomes its plane
-// regions, not millions of triangles. The STEP plugin runs it as a child, as it does the reader, so that a
+// plane faces, or with --faceted a faceted B-rep), in which coplanar triangles are merged into polygons: a
+// voxel surface becomes its plane regions, not millions of triangles. The STEP plugin runs it as a child, as it does the reader, so that a
 // mesh too large for the machine ends this process and not the window (docs/step.md, docs/swept-volume.md).
 //
-//   vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME] [--parent PID] [--memory-limit-mb MB]
+//   vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME] [--faceted] [--parent PID] [--memory-limit-mb MB]
+//
+// The advanced B-rep (the default) is every CAD system's ordinary solid: faces on planes, bounded by loops
+// of edges between vertices. A faceted B-rep bounds each plane face by a loop of points and has no edge or
+// vertex entities; the same solid in about a third of the file (the 1 mm volume of a gear's carry: 18.8 MB
+// against 6.3 MB, docs/benchmarks.md), which some CAD systems take in as a faceted body rather than as an
+// ordinary solid.
 //
 // MESH is a binary STL in the unit given, whose triangles face outwards and share their corners (a closed
 // manifold). Progress goes to stdout as the reader's does ("progress 0.350 making faces"). Exit 0: FILE
@@ -378,7 +384,7 @@ std::string timestamp() {
   return b;
 }
 
-std::string stepFile(const Mesh& mesh, const Brep& brep, const std::string& unit, const std::string& name, const std::string& fileName) {
+std::string stepFile(const Mesh& mesh, const Brep& brep, const std::string& unit, const std::string& name, const std::string& fileName, bool faceted) {
   Part21 f;
   const auto ref = Part21::ref;
   // The product, so a CAD system lists the solid by its name, and the units the numbers are in.
@@ -412,30 +418,39 @@ std::string stepFile(const Mesh& mesh, const Brep& brep, const std::string& unit
                                     ")) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY')");
   const int origin = f.add("AXIS2_PLACEMENT_3D", "''," + ref(f.point(Vec::Zero())) + "," + ref(f.direction(Vec::UnitZ())) + "," + ref(f.direction(Vec::UnitX())));
 
-  // The topology: a vertex at each run's ends, an edge per run. Edges on one line share it (a voxel
-  // surface's edges lie on a few grid lines), the line through the first such edge's first vertex.
-  std::unordered_map<int, std::pair<int, int>> vertex;  // mesh vertex -> its point and vertex point
-  const auto vertexOf = [&](int v) {
-    if (const auto it = vertex.find(v); it != vertex.end()) return it->second;
-    const int p = f.point(mesh.point[static_cast<std::size_t>(v)]);
-    return vertex[v] = {p, f.add("VERTEX_POINT", "''," + ref(p))};
+  std::unordered_map<int, int> pointOf;  // mesh vertex -> its CARTESIAN_POINT
+  const auto pointAt = [&](int v) {
+    if (const auto it = pointOf.find(v); it != pointOf.end()) return it->second;
+    return pointOf[v] = f.point(mesh.point[static_cast<std::size_t>(v)]);
   };
-  std::map<std::pair<int, std::array<float, 3>>, int> lines;  // (direction, the line's point nearest the origin) -> LINE
-  std::vector<int> edge(brep.runs.size());
-  for (std::size_t i = 0; i < brep.runs.size(); ++i) {
-    const auto& run = brep.runs[i];
-    const Vec& a = mesh.point[static_cast<std::size_t>(run.from)];
-    const auto [p, from] = vertexOf(run.from);
-    const int to = vertexOf(run.to).second;
-    const Vec d = (mesh.point[static_cast<std::size_t>(run.to)] - a).normalized();
-    const Vec nearest = a - a.dot(d) * d;
-    const int vector = f.vector(d);
-    const auto [it, fresh] = lines.try_emplace({vector, {static_cast<float>(nearest.x()), static_cast<float>(nearest.y()), static_cast<float>(nearest.z())}}, 0);
-    if (fresh) it->second = f.add("LINE", "''," + ref(p) + "," + ref(vector));
-    edge[i] = f.add("EDGE_CURVE", "''," + ref(from) + "," + ref(to) + "," + ref(it->second) + ",.T.");
+
+  // The topology of an advanced B-rep: a vertex at each run's ends, an edge per run. Edges on one line share
+  // it (a voxel surface's edges lie on a few grid lines), the line through the first such edge's first
+  // vertex. A faceted B-rep has neither: each loop is the points where its runs begin, in order, and as a
+  // neighbour's corner on a face's border ends a run there (brepOf), two faces' loops meet at the same
+  // points and the shell closes.
+  std::vector<int> edge;
+  if (!faceted) {
+    std::unordered_map<int, int> vertex;  // mesh vertex -> its VERTEX_POINT
+    const auto vertexOf = [&](int v) {
+      if (const auto it = vertex.find(v); it != vertex.end()) return it->second;
+      return vertex[v] = f.add("VERTEX_POINT", "''," + ref(pointAt(v)));
+    };
+    std::map<std::pair<int, std::array<float, 3>>, int> lines;  // (direction, the line's point nearest the origin) -> LINE
+    edge.resize(brep.runs.size());
+    for (std::size_t i = 0; i < brep.runs.size(); ++i) {
+      const auto& run = brep.runs[i];
+      const Vec& a = mesh.point[static_cast<std::size_t>(run.from)];
+      const int from = vertexOf(run.from), to = vertexOf(run.to);
+      const Vec d = (mesh.point[static_cast<std::size_t>(run.to)] - a).normalized();
+      const Vec nearest = a - a.dot(d) * d;
+      const int vector = f.vector(d);
+      const auto [it, fresh] = lines.try_emplace({vector, {static_cast<float>(nearest.x()), static_cast<float>(nearest.y()), static_cast<float>(nearest.z())}}, 0);
+      if (fresh) it->second = f.add("LINE", "''," + ref(pointAt(run.from)) + "," + ref(vector));
+      edge[i] = f.add("EDGE_CURVE", "''," + ref(from) + "," + ref(to) + "," + ref(it->second) + ",.T.");
+    }
   }
   progress(0.6, "writing " + std::to_string(brep.faces.size()) + " faces");
-  // Faces on one plane share it: the plane through the first such face's first vertex.
   std::map<std::pair<int, double>, int> planes;
   std::string faceList;
   for (const Brep::Face& face : brep.faces) {
@@ -444,26 +459,30 @@ std::string stepFile(const Mesh& mesh, const Brep& brep, const std::string& unit
       std::string list;
       for (const auto& [run, forward] : face.loops[l]) {
         if (!list.empty()) list += ',';
-        list += ref(f.add("ORIENTED_EDGE", "'',*,*," + ref(edge[static_cast<std::size_t>(run)]) + (forward ? ",.T." : ",.F.")));
+        const auto& r = brep.runs[static_cast<std::size_t>(run)];
+        list += ref(faceted ? pointAt(forward ? r.from : r.to)
+                            : f.add("ORIENTED_EDGE", "'',*,*," + ref(edge[static_cast<std::size_t>(run)]) + (forward ? ",.T." : ",.F.")));
       }
-      const int loop = f.add("EDGE_LOOP", "'',(" + list + ")");
+      const int loop = f.add(faceted ? "POLY_LOOP" : "EDGE_LOOP", "'',(" + list + ")");
       if (!bounds.empty()) bounds += ',';
       bounds += ref(f.add(l == 0 ? "FACE_OUTER_BOUND" : "FACE_BOUND", "''," + ref(loop) + ",.T."));
     }
+    // Faces on one plane share it: the plane through the first such face's first vertex.
     const auto& first = brep.runs[static_cast<std::size_t>(face.loops.front().front().first)];
     const int v = face.loops.front().front().second ? first.from : first.to;
     const int normal = f.direction(face.normal);
     const auto [it, fresh] = planes.try_emplace({normal, static_cast<double>(static_cast<float>(face.normal.dot(mesh.point[static_cast<std::size_t>(v)])))}, 0);
     if (fresh) {
-      const int placement = f.add("AXIS2_PLACEMENT_3D", "''," + ref(vertexOf(v).first) + "," + ref(normal) + "," + ref(f.direction(across(face.normal))));
+      const int placement = f.add("AXIS2_PLACEMENT_3D", "''," + ref(pointAt(v)) + "," + ref(normal) + "," + ref(f.direction(across(face.normal))));
       it->second = f.add("PLANE", "''," + ref(placement));
     }
     if (!faceList.empty()) faceList += ',';
-    faceList += ref(f.add("ADVANCED_FACE", "'',(" + bounds + ")," + ref(it->second) + ",.T."));
+    faceList += ref(f.add(faceted ? "FACE_SURFACE" : "ADVANCED_FACE", "'',(" + bounds + ")," + ref(it->second) + ",.T."));
   }
   const int shell = f.add("CLOSED_SHELL", "'',(" + faceList + ")");
-  const int solid = f.add("MANIFOLD_SOLID_BREP", quoted(name) + "," + ref(shell));
-  const int representation = f.add("ADVANCED_BREP_SHAPE_REPRESENTATION", "''," + std::string("(") + ref(origin) + "," + ref(solid) + ")," + ref(context));
+  const int solid = f.add(faceted ? "FACETED_BREP" : "MANIFOLD_SOLID_BREP", quoted(name) + "," + ref(shell));
+  const int representation = f.add(faceted ? "FACETED_BREP_SHAPE_REPRESENTATION" : "ADVANCED_BREP_SHAPE_REPRESENTATION",
+                                    "''," + std::string("(") + ref(origin) + "," + ref(solid) + ")," + ref(context));
   f.add("SHAPE_DEFINITION_REPRESENTATION", ref(shape) + "," + ref(representation));
 
   std::string out = "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('vaw solid'),'2;1');\nFILE_NAME(" + quoted(fileName) + ",'" + timestamp() +
@@ -477,7 +496,7 @@ std::string stepFile(const Mesh& mesh, const Brep& brep, const std::string& unit
 }  // namespace
 
 int usage() {
-  std::fprintf(stderr, "usage: vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME] [--parent PID] [--memory-limit-mb MB]\n");
+  std::fprintf(stderr, "usage: vaw-step-write MESH.stl --out FILE.step --unit mm|inch|m [--name NAME] [--faceted] [--parent PID] [--memory-limit-mb MB]\n");
   return 2;
 }
 
@@ -485,11 +504,14 @@ int main(int argc, char** argv) {
   std::string in, out, unit, name = "vaw solid";
   long parent = 0;
   double memoryMB = 0.0;
+  bool faceted = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     try {
       if ((a == "--out" || a == "--unit" || a == "--name") && i + 1 < argc) {
         (a == "--out" ? out : a == "--unit" ? unit : name) = argv[++i];
+      } else if (a == "--faceted") {
+        faceted = true;
       } else if (a == "--parent" && i + 1 < argc) {
         parent = std::stol(argv[++i]);
       } else if (a == "--memory-limit-mb" && i + 1 < argc) {
@@ -509,7 +531,7 @@ int main(int argc, char** argv) {
   try {
     const Mesh mesh = readStl(in);
     const Brep brep = brepOf(mesh);
-    const std::string text = stepFile(mesh, brep, unit, name, std::filesystem::path(out).filename().string());
+    const std::string text = stepFile(mesh, brep, unit, name, std::filesystem::path(out).filename().string(), faceted);
     progress(0.9, "writing the file");
     std::FILE* file = std::fopen(out.c_str(), "wb");
     if (file == nullptr) refuse(out + ": cannot write: " + std::strerror(errno));

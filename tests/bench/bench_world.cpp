@@ -187,7 +187,8 @@ void BM_SweptVolumeTenSecondsLargeGearbox(benchmark::State& state) {
 BENCHMARK(BM_SweptVolumeTenSecondsLargeGearbox)->Arg(1000)->Arg(500)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The 1 mm swept volume of that carry written as a STEP solid through the STEP plugin (vaw-step-write: the
-// voxel faces merged into plane polygons), the file's size reported.
+// voxel faces merged into plane polygons), the file's size reported. Argument 0: an advanced B-rep (the
+// default), 1: a faceted one.
 void BM_SweptVolumeAsStepLargeGearbox(benchmark::State& state) {
   Eigen::Vector3d unused;
   const auto scene = vaw::sim::Scene::build(gearbox(unused));
@@ -199,12 +200,14 @@ void BM_SweptVolumeAsStepLargeGearbox(benchmark::State& state) {
     return;
   }
   const std::filesystem::path out = std::filesystem::temp_directory_path() / "vaw-bench-swept.step";
-  for (auto _ : state) step->write(sv.mesh, "gear-a1 swept", vaw::LengthUnit::Millimetre, out, {}, {});
+  vaw::ExportOptions form;
+  form.faceted = state.range(0) == 1;
+  for (auto _ : state) step->write(sv.mesh, "gear-a1 swept", vaw::LengthUnit::Millimetre, out, form, {});
   state.counters["triangles"] = static_cast<double>(sv.mesh.triangles.size());
   state.counters["file_MB"] = static_cast<double>(std::filesystem::file_size(out)) / 1e6;
   std::filesystem::remove(out);
 }
-BENCHMARK(BM_SweptVolumeAsStepLargeGearbox)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
+BENCHMARK(BM_SweptVolumeAsStepLargeGearbox)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(1);
 
 // Seeking in a recording (the timeline's scrubbing): a 10-minute session on the large gearbox in which the
 // right hand picks up a 0.42 kg gear every 20 s, lifts it 0.1 m, carries it round a 5 cm circle for 15 s

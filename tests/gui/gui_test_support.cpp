@@ -5,6 +5,7 @@
 #include <Qt3DRender/QRenderCapture>
 #include <QRegularExpression>
 #include <QApplication>
+#include <QComboBox>
 #include <QDialogButtonBox>
 #include <QFileDialog>
 #include <QMessageBox>
@@ -172,7 +173,7 @@ void pressKey(QMainWindow* window, int key, Qt::KeyboardModifiers modifiers) {
   QTest::keyClick(target, static_cast<Qt::Key>(key), modifiers);
 }
 
-void answerFileDialog(QWidget* modal, const QString& path) {
+void answerFileDialog(QWidget* modal, const QString& path, const QString& fileType) {
   // Whatever fails here, the dialog must not stay open: its exec() would hold the test until ctest's time
   // limit (a run under load once waited 300 s on it) instead of failing at once.
   const QPointer<QDialog> open = qobject_cast<QDialog*>(modal);
@@ -189,6 +190,14 @@ void answerFileDialog(QWidget* modal, const QString& path) {
   // went nowhere). So the field gets focus the way a person gives it, and what was typed is checked and
   // typed again if the listing overwrote it, as a person would.
   QVERIFY(QTest::qWaitForWindowActive(dialog));
+  if (!fileType.isEmpty()) {
+    auto* types = dialog->findChild<QComboBox*>(QStringLiteral("fileTypeCombo"));
+    QVERIFY(types != nullptr);
+    types->setFocus();
+    QTest::keyClick(types, Qt::Key_Home);
+    for (int i = 0; i < types->count() && !types->currentText().startsWith(fileType); ++i) QTest::keyClick(types, Qt::Key_Down);
+    QVERIFY2(types->currentText().startsWith(fileType), qPrintable(fileType + QStringLiteral(" is not among the file types")));
+  }
   QTest::mouseClick(name, Qt::LeftButton);
   QTRY_VERIFY_WITH_TIMEOUT(name->hasFocus(), 5000);
   for (int attempt = 0; attempt < 3 && name->text() != path; ++attempt) {

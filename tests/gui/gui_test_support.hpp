@@ -117,7 +117,8 @@ QMenu* openSceneTreeMenu(ui::MainWindow& window, PartId part);
 // Answers an open Save or Open file dialog as a person does: `path` typed into its file name field, then its
 // Save (Open) button clicked. The field's completer is taken off first: its popup, when a loaded machine
 // shows it late, takes the key or the click meant for the dialog and leaves the dialog open for ever.
-void answerFileDialog(QWidget* modal, const QString& path);
+// `fileType`, when given, is the start of the file type to pick first from the dialog's list, by keyboard.
+void answerFileDialog(QWidget* modal, const QString& path, const QString& fileType = {});
 // Runs `act` on the next modal dialog once it shows (a message box, a file dialog).
 void whenModal(std::function<void(QWidget*)> act);
 

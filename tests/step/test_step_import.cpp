@@ -641,10 +641,20 @@ TEST(StepExport, ASweptVolumeWrittenAsAStepSolidReadsBackWithItsVolume) {
   const vaw::SolidExporter* writer = stepPlugin().exporterFor("swept.STEP");
   ASSERT_NE(writer, nullptr);
   EXPECT_EQ(stepPlugin().exporterFor("swept.stl"), nullptr);
-  for (const auto unit : {vaw::LengthUnit::Millimetre, vaw::LengthUnit::Inch}) {
-    const fs::path out = vaw::test::tempDir() / ("swept-" + std::string(vaw::name(unit)) + ".step");
+  std::uintmax_t advancedSize = 0;
+  for (const auto unit : {vaw::LengthUnit::Millimetre, vaw::LengthUnit::Inch}) for (const bool faceted : {false, true}) {
+    SCOPED_TRACE(std::string(vaw::name(unit)) + (faceted ? ", faceted" : ", advanced"));
+    const fs::path out = vaw::test::tempDir() / ("swept-" + std::string(vaw::name(unit)) + (faceted ? "-faceted" : "") + ".step");
     // A name with a quote and a letter beyond ASCII, which Part 21 writes escaped.
-    writer->write(sv.mesh, "ball's Bügel swept", unit, out, {}, {});
+    vaw::ExportOptions form;
+    form.faceted = faceted;
+    writer->write(sv.mesh, "ball's Bügel swept", unit, out, form, {});
+    const std::string text = readAll(out);
+    EXPECT_EQ(text.find("=EDGE_CURVE(") == std::string::npos, faceted);
+    EXPECT_EQ(text.find("=FACETED_BREP(") != std::string::npos, faceted);
+    EXPECT_EQ(text.find("=MANIFOLD_SOLID_BREP(") != std::string::npos, !faceted);
+    if (!faceted) advancedSize = text.size();
+    else EXPECT_LT(text.size(), advancedSize / 2);
     const ImportedMesh back = load(out);
     EXPECT_EQ(back.declaredUnit, unit == vaw::LengthUnit::Inch ? std::optional<std::string>("inch") : std::optional<std::string>("millimetre"));
     const auto all = instances(back);

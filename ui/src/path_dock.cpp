@@ -359,7 +359,7 @@ void PathDock::showThreshold() {
   near_->replace(close);
 }
 
-void PathDock::exportVolume(const QString& file) {
+void PathDock::exportVolume(const QString& file, bool faceted) {
   if (!result_ || exporting_) return;
   const vaw::Assembly& a = result_->scene->assembly();
   const std::string partName = a.parts[result_->part].name;
@@ -388,6 +388,7 @@ void PathDock::exportVolume(const QString& file) {
   vaw::ExportOptions limits;
   limits.timeoutSeconds = settings.value(QStringLiteral("import/timeoutSeconds"), limits.timeoutSeconds).value<double>();
   limits.memoryMB = settings.value(QStringLiteral("import/readerMemoryMB"), limits.memoryMB).value<double>();
+  limits.faceted = faceted;
   exportStopped_ = std::make_shared<std::atomic<bool>>(false);
   const QPointer<PathDock> self(this);
   const vaw::ProgressFn progress = [stopped = exportStopped_, self, file](double fraction, const std::string& stage) {
@@ -416,10 +417,12 @@ void PathDock::exportVolume(const QString& file) {
 void PathDock::askExport() {
   if (!result_) return;
   QString filters = tr("STL (*.stl)");
-  if (plugins_.exporterFor("x.step") != nullptr) filters += tr(";;STEP solid (*.step *.stp)");
+  const QString faceted = tr("STEP faceted solid, about a third the size (*.step *.stp)");
+  if (plugins_.exporterFor("x.step") != nullptr) filters += tr(";;STEP solid (*.step *.stp);;") + faceted;
   const QString name = QString::fromStdString(result_->scene->assembly().parts[result_->part].name) + QStringLiteral("-swept.stl");
-  const QString file = QFileDialog::getSaveFileName(this, tr("Export the swept volume"), name, filters);
-  if (!file.isEmpty()) exportVolume(file);
+  QString chosen;
+  const QString file = QFileDialog::getSaveFileName(this, tr("Export the swept volume"), name, filters, &chosen);
+  if (!file.isEmpty()) exportVolume(file, chosen == faceted);
 }
 
 }  // namespace vaw::ui

@@ -128,6 +128,9 @@ class MeshImporter {
 struct ExportOptions {
   double timeoutSeconds = 300.0;  // the write is stopped past this, with a named error
   double memoryMB = 0.0;          // the writer's memory limit; 0: half the machine's memory
+  // A faceted B-rep (faces bounded by loops of points) rather than an advanced one (loops of edges): about
+  // a third the size for a voxel surface, though some CAD systems take it as a faceted body.
+  bool faceted = false;
 };
 
 // Writes a closed mesh as a solid in a format only a plugin can write (STEP, through the STEP plugin): the
@@ -150,7 +153,7 @@ class SolidExporter {
 // against a different interface.
 // 2: ImportOptions and CAD assemblies; 3: the reader's memory limit; 4: the instance limit; 5: the results kept;
 // 6: the solid writer's limits and progress
-inline constexpr int kImporterAbiVersion = 6;
+inline constexpr int kImporterAbiVersion = 7;
 extern "C" {
 using VawPluginAbiFn = int (*)();
 using VawCreateImporterFn = vaw::MeshImporter* (*)();

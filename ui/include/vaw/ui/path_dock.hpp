@@ -66,8 +66,9 @@ class PathDock : public QDockWidget {
   void sweep();
   // Writes the swept volume to `file`: binary STL (.stl), or a STEP solid (.step, .stp) when a plugin
   // writes STEP, in the background, within the STEP settings' time and memory limits, its progress in the
-  // panel and Stop beside it. Emits exported(file, why): `why` empty when it was written.
-  void exportVolume(const QString& file);
+  // panel and Stop beside it; `faceted`: a faceted STEP B-rep (vaw::ExportOptions::faceted). Emits
+  // exported(file, why): `why` empty when it was written.
+  void exportVolume(const QString& file, bool faceted = false);
   // Stops the write under way; nothing is left at its file but what was there.
   void stopExport();
   [[nodiscard]] bool exporting() const { return exporting_; }
