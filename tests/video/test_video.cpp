@@ -250,6 +250,20 @@ TEST(Video, WhatCannotBeWrittenIsANamedErrorAndLeavesNoFile) {
     EXPECT_NE(std::string(e.what()).find("\"gear\""), std::string::npos) << e.what();
   }
   EXPECT_FALSE(vaw::video::parseCamera("sideways"));
+  // An eye on what it looks at, or with no field of view: named, nothing written.
+  vaw::video::VideoOptions eye = o;
+  eye.camera.kind = vaw::video::Camera::Kind::Eye;
+  eye.camera.position = eye.camera.target = Eigen::Vector3d(0.1, 0.2, 0.3);
+  for (const double fov : {35.0, 0.0}) {
+    if (fov == 0.0) eye.camera.position = Eigen::Vector3d(0.5, -0.5, 0.5);
+    eye.camera.verticalFovDeg = fov;
+    try {
+      (void)vaw::video::writeSessionVideo(scene, session, file, eye);
+      FAIL() << "an eye camera that cannot see was taken (field of view " << fov << ")";
+    } catch (const vaw::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("camera: expected an eye apart from what it looks at"), std::string::npos) << e.what();
+    }
+  }
   // Stopped after its third frame: no file, nothing half-written.
   int frames = 0;
   EXPECT_THROW((void)vaw::video::writeSessionVideo(scene, session, file, o, [&](double, const std::string&) { return ++frames < 3; }),

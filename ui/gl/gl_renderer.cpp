@@ -336,11 +336,10 @@ void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const
                         const HandsSample& hands) {
   ensureTargets(width, height);
   const Eigen::Matrix4f viewProj = projection(eye, kNear, kFar) * eye.pose.inverse().matrix().cast<float>();
-  std::vector<Look> looks;
-  if (frame != nullptr) {
-    looks.reserve(items_.size());
+  std::vector<Look>& looks = looks_;
+  looks.clear();
+  if (frame != nullptr)
     for (const Item& item : items_) looks.push_back(lookOf(item, *frame));
-  }
   const bool layered = layer_.on && frame != nullptr && useStillLayer(looks, eye, width, height, viewProj);
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_);
   glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, colorTexture, 0);
@@ -368,7 +367,7 @@ void GlRenderer::render(std::uint32_t colorTexture, int width, int height, const
       drawSegment(Eigen::Vector3d(hook.x(), hook.y(), h.top), hook, 0.004, kCable);
       draw(cube_, scaledAt(h.hook, Eigen::Vector3d::Constant(0.03)), h.engaged ? view::kHighlight : kCable, true);
     }
-    last_ = std::move(looks);
+    last_.swap(looks);
   }
   for (const Line& l : lines_) drawSegment(l.from, l.to, l.width, l.color);
   lastEye_ = eye;

@@ -2,6 +2,7 @@
 // evaluation report, and asking before unsaved tuning is dropped.
 #include "vaw/ui/main_window.hpp"
 
+#include <Qt3DRender/QCamera>
 #include <QAction>
 #include <QDragEnterEvent>
 #include <QDropEvent>
@@ -29,6 +30,7 @@
 
 #include "background_export.hpp"
 #include "format.hpp"
+#include "qt_convert.hpp"
 #include "vaw/error.hpp"
 #include "vaw/report/gltf.hpp"
 #include "vaw/report/report.hpp"
@@ -485,6 +487,7 @@ void MainWindow::exportVideoDialog() {
   for (const auto& [label, view] : {std::pair{tr("From the home view"), QStringLiteral("iso")}, {tr("From the front"), QStringLiteral("front")},
                                     {tr("From above"), QStringLiteral("top")}})
     camera->addItem(label, view);
+  camera->addItem(tr("As the viewport shows it now"), QStringLiteral("viewport"));
   form->addRow(tr("Camera"), camera);
   // The whole recording, or the part of it the timeline shows when that is less (zoomed or panned).
   auto* span = new QComboBox(&d);
@@ -505,7 +508,16 @@ void MainWindow::exportVideoDialog() {
   options.width = size->currentData().toSize().width();
   options.height = size->currentData().toSize().height();
   options.fps = fps->value();
-  options.camera = vaw::video::parseCamera(camera->currentData().toString().toStdString()).value_or(vaw::video::Camera{});
+  if (camera->currentData().toString() == QStringLiteral("viewport")) {
+    const Qt3DRender::QCamera* eye = viewport_->camera();
+    options.camera.kind = vaw::video::Camera::Kind::Eye;
+    options.camera.position = toEigen(eye->position());
+    options.camera.target = toEigen(eye->viewCenter());
+    options.camera.up = toEigen(eye->upVector());
+    options.camera.verticalFovDeg = eye->fieldOfView();
+  } else {
+    options.camera = vaw::video::parseCamera(camera->currentData().toString().toStdString()).value_or(vaw::video::Camera{});
+  }
   if (span->currentIndex() > 0) {
     options.from = span->currentData().toPointF().x();
     options.to = span->currentData().toPointF().y();

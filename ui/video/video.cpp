@@ -115,6 +115,24 @@ class CameraMan {
                    : v == "top" ? Eigen::Vector3d(0, 0, 1)
                                 : Eigen::Vector3d::Zero();
       if (direction_.isZero()) fail(file, "camera", kCameraChoices, "\"" + v + "\"");
+    } else if (kind_ == Camera::Kind::Eye) {
+      const Eigen::Vector3d back = camera.position - camera.target;
+      const bool finite = camera.position.allFinite() && camera.target.allFinite() && camera.up.allFinite() && std::isfinite(camera.verticalFovDeg);
+      if (!finite || back.norm() < 1e-9 || camera.up.cross(back).norm() < 1e-9 * back.norm() * camera.up.norm() ||
+          camera.verticalFovDeg <= 0.0 || camera.verticalFovDeg >= 180.0)
+        fail(file, "camera", "an eye apart from what it looks at, an up across its view and a field of view between 0 and 180 degrees",
+             "an eye at (" + fixed(camera.position.x(), 3) + ", " + fixed(camera.position.y(), 3) + ", " + fixed(camera.position.z(), 3) + ") m, field of view " +
+                 fixed(camera.verticalFovDeg, 1) + " degrees");
+      const Eigen::Vector3d z = back.normalized(), x = camera.up.cross(z).normalized();
+      eye_.pose.linear().col(0) = x;
+      eye_.pose.linear().col(1) = z.cross(x);
+      eye_.pose.linear().col(2) = z;  // the eye looks along its -z
+      eye_.pose.translation() = camera.position;
+      const double halfV = 0.5 * camera.verticalFovDeg * std::numbers::pi / 180.0, halfH = std::atan(std::tan(halfV) * aspect);
+      eye_.angleLeft = -halfH;
+      eye_.angleRight = halfH;
+      eye_.angleUp = halfV;
+      eye_.angleDown = -halfV;
     }
   }
 
@@ -125,6 +143,7 @@ class CameraMan {
   // picture or shrinks in it, the camera moves smoothly to frame it again with a tenth to spare. Follow
   // keeps its part in the middle all the time.
   xr::EyeView aim(const view::Frame& frame, double dt) {
+    if (kind_ == Camera::Kind::Eye) return eye_;
     if (kind_ == Camera::Kind::Follow) {
       ease(frame.parts[*part_].pose * local_, distance_, dt);
       return eyeAt(*centre_, direction_, distanceNow_, aspect_);
@@ -164,6 +183,7 @@ class CameraMan {
   std::optional<Eigen::Vector3d> centre_;
   double distanceNow_ = 0.0;
   bool moving_ = false;
+  xr::EyeView eye_;  // Eye's, fixed
   static constexpr double kSpare = 1.1;    // the work framed with a tenth of its size to spare
   static constexpr double kShrunk = 0.6;   // held until the work fills less than this of the picture
 

@@ -79,7 +79,7 @@ class GlRenderer {
     Eigen::Matrix4f pose = Eigen::Matrix4f::Identity();
     view::Rgb color;
     bool shown = true;
-    bool operator==(const Look& o) const { return pose == o.pose && color.r == o.color.r && color.g == o.color.g && color.b == o.color.b && shown == o.shown; }
+    bool operator==(const Look&) const = default;
   };
   struct StillLayer {
     bool on = false, valid = false;
@@ -114,7 +114,8 @@ class GlRenderer {
   std::vector<Line> lines_;
   StillLayer layer_;
   LayerUse use_;
-  std::vector<Look> last_;  // the last frame's looks, per item
+  std::vector<Look> last_;   // the last frame's looks, per item
+  std::vector<Look> looks_;  // this frame's, swapped with last_ so that no frame allocates
   std::optional<EyeView> lastEye_;
 };
 

@@ -4,6 +4,8 @@
 // uses, in a context with no display), a caption line under it (the time, what is in hand, each state
 // change as it happens, the scene's name), encoded as H.264 in an MP4 file. No display and no GPU are
 // needed; a GPU's driver is used where EGL offers one.
+#include <Eigen/Core>
+
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -23,12 +25,17 @@ namespace vaw::video {
 // Where the camera looks from. Auto: from the window's home view, every part drawn in the picture where it
 // is now (as the window's F frames them), the camera easing to each new framing so that a carried part, a
 // lifted base or a dropped part stays in view. Follow: close on one part, easing after it. View: as Auto
-// from a fixed side ("iso", the home view; "front", "back", "left", "right", "top").
+// from a fixed side ("iso", the home view; "front", "back", "left", "right", "top"). Eye: still, from a
+// given eye (the window's viewport as it looks when the video is asked for).
 struct Camera {
-  enum class Kind : std::uint8_t { Auto, Follow, View };
+  enum class Kind : std::uint8_t { Auto, Follow, View, Eye };
   Kind kind = Kind::Auto;
   std::string part;  // Follow
   std::string view;  // View
+  // Eye: where it is, what it looks at, which way is up (m, the scene's frame), and the picture's vertical
+  // field of view (degrees); the horizontal follows from the video's size.
+  Eigen::Vector3d position = Eigen::Vector3d::Zero(), target = Eigen::Vector3d::Zero(), up = Eigen::Vector3d::UnitZ();
+  double verticalFovDeg = 35.0;
 };
 
 // "auto", "follow PART", or a view's name: the camera, or std::nullopt when `text` is none of them.
