@@ -129,6 +129,9 @@ class TestSimulation : public QObject {
   void setSpin(QDoubleSpinBox* box, double value);
   // As a person picks it: File clicked in the menu bar, then the item whose action is named `action`.
   void clickFileMenuItem(const QString& action);
+  // In the sleeve-on-shaft scene, the sleeve carried with the mouse from where it waits, 130 mm over the
+  // table, aside and down to 20 mm over it, and let go there; the sleeve's id.
+  PartId carryTheSleeveAside();
   // File > Export Video: the size picked in the dialog by `sizeKey` (Home: the largest, End: the smallest),
   // the frame rate typed, the camera (the last entry, which must read `camera`) when given, `file` named in
   // the file dialog; returns once the export runs.
@@ -810,12 +813,8 @@ void TestSimulation::fallingBehindIsShownWithTheRealRate() {
 // larger near-miss threshold marks more steps; Export writes the STL through the file dialog.
 void TestSimulation::carriedPathShowsItsSweptVolumeAndClearance() {
   open(QStringLiteral("sleeve-on-shaft.vaw.json"));
-  const PartId sleeve = *assembly().findPart("sleeve");
-  // From where it waits, 130 mm over the table, carried aside and down to 20 mm over it.
-  const Eigen::Isometry3d start = world().part(sleeve).pose;
-  Eigen::Isometry3d lifted = start;
-  lifted.translation() += Eigen::Vector3d(-0.06, 0.04, -0.11);
-  vaw::guitest::carryWithMouse(*window_, sleeve, lifted, "sleeve");
+  const Eigen::Isometry3d start = world().part(*assembly().findPart("sleeve")).pose;
+  const PartId sleeve = carryTheSleeveAside();
   if (QTest::currentTestFailed()) return;
   QTRY_VERIFY_WITH_TIMEOUT(world().part(sleeve).state != PartState::InHand, 3000);
   sim().pause();
@@ -919,6 +918,14 @@ void TestSimulation::clickFileMenuItem(const QString& action) {
     if (a->objectName() == action) item = a;
   QVERIFY2(item != nullptr, qPrintable(action));
   QTest::mouseClick(menu, Qt::LeftButton, {}, menu->actionGeometry(item).center());
+}
+
+PartId TestSimulation::carryTheSleeveAside() {
+  const PartId sleeve = *assembly().findPart("sleeve");
+  Eigen::Isometry3d lifted = world().part(sleeve).pose;
+  lifted.translation() += Eigen::Vector3d(-0.06, 0.04, -0.11);
+  vaw::guitest::carryWithMouse(*window_, sleeve, lifted, "sleeve");
+  return sleeve;
 }
 
 void TestSimulation::exportVideoThroughTheMenu(const QString& file, int sizeKey, const QString& fps, const QString& camera) {
@@ -1075,10 +1082,7 @@ bool coloured(const QImage& image, int x, int y, int x0, int rows) {
 // measured, most of it the window's grab marker, which the video does not draw).
 void TestSimulation::aVideoFromTheViewportsEyeShowsWhatTheWindowShowed() {
   open(QStringLiteral("sleeve-on-shaft.vaw.json"));
-  const PartId sleeve = *assembly().findPart("sleeve");
-  Eigen::Isometry3d lifted = world().part(sleeve).pose;
-  lifted.translation() += Eigen::Vector3d(-0.06, 0.04, -0.11);
-  vaw::guitest::carryWithMouse(*window_, sleeve, lifted, "sleeve");
+  const PartId sleeve = carryTheSleeveAside();
   if (QTest::currentTestFailed()) return;
   QTRY_VERIFY_WITH_TIMEOUT(sim().recorder().endTime() >= 2.0, 20000);
   sim().pause();
@@ -1137,10 +1141,7 @@ void TestSimulation::aVideoFromTheViewportsEyeShowsWhatTheWindowShowed() {
 // version) and holds the carry's animation.
 void TestSimulation::theRecordingExportsAsGltf() {
   open(QStringLiteral("sleeve-on-shaft.vaw.json"));
-  const PartId sleeve = *assembly().findPart("sleeve");
-  Eigen::Isometry3d lifted = world().part(sleeve).pose;
-  lifted.translation() += Eigen::Vector3d(-0.06, 0.04, -0.11);
-  vaw::guitest::carryWithMouse(*window_, sleeve, lifted, "sleeve");
+  (void)carryTheSleeveAside();
   if (QTest::currentTestFailed()) return;
   sim().pause();
   const QString file = keep_.filePath(QStringLiteral("gear.glb"));
